@@ -1,0 +1,61 @@
+#pragma once
+/// Model files (shared/spec/model.md section 7 and 8) <-> model specs, with unit conversion and
+/// key-path validation. Everything returned is in internal units (mm, rad).
+
+#include <map>
+#include <string>
+#include <variant>
+
+#include <nlohmann/json.hpp>
+
+#include "volcomp/config/config_error.hpp"
+#include "volcomp/model/dh_chain.hpp"
+#include "volcomp/model/machine_model.hpp"
+
+namespace volcomp::config {
+
+struct ParseOptions {
+  /// Calibration templates: a component (or a D-H deviation) may be an object holding an
+  /// "identify" key; those raw blocks are returned in ModelDocument::identify and the component
+  /// gets its optional "start" value (or 0) in the spec.
+  bool allowIdentify = false;
+};
+
+/// Units a file states for error values ("error_units"); factors multiply file values to get mm
+/// and rad.
+struct ErrorUnits {
+  std::string length = "mm";
+  std::string angle = "rad";
+  double lengthToMm = 1.0;
+  double angleToRad = 1.0;
+};
+
+struct ModelDocument {
+  std::string file;
+  ErrorUnits units;
+  /// A 3-axis machine model or a D-H chain.
+  std::variant<model::MachineModelSpec, model::DhChainSpec> spec;
+  /// With ParseOptions::allowIdentify: key path (e.g. "components.EXX",
+  /// "chain.links[1].dalpha") -> the raw "identify" block.
+  std::map<std::string, nlohmann::json> identify;
+};
+
+/// Reads and validates a model file. Throws ConfigError (file, key path, what was expected).
+ModelDocument loadModelFile(const std::string& path, const ParseOptions& options = {});
+
+/// Same for an already parsed document; `file` is used in messages only.
+ModelDocument parseModel(const nlohmann::json& document, const std::string& file,
+                         const ParseOptions& options = {});
+
+/// Writes a 3-axis model spec as a volcomp-model/1 document in the given error units
+/// (round trip: parseModel(writeModel(s, u)) reproduces s).
+nlohmann::json writeModel(const model::MachineModelSpec& spec, const ErrorUnits& units = {});
+/// Writes a D-H chain spec (angles in degrees as the format says).
+nlohmann::json writeModel(const model::DhChainSpec& spec);
+
+/// Factor from a length unit name (mm|um|nm) to mm; angle unit name (rad|mrad|urad|arcsec|deg) to
+/// rad. Throw ConfigError with the given file/path on an unknown name.
+double lengthUnitToMm(const std::string& unit, const std::string& file, const std::string& path);
+double angleUnitToRad(const std::string& unit, const std::string& file, const std::string& path);
+
+}  // namespace volcomp::config

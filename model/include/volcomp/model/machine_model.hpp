@@ -1,0 +1,131 @@
+#pragma once
+/// The 3-axis volumetric error model (spec sections 3, 4, 6): an immutable MachineModel, a
+/// preallocated Workspace, and free evaluation functions `algo(model, workspace, q)` in the style
+/// of Pinocchio's Model/Data. Evaluation is noexcept and never allocates.
+///
+/// Frames: F machine frame (bed), W workpiece, T tool tip. `frameMworkpiece` = H_FW,
+/// `frameMtool` = H_FT, `workpieceMtool` = H_WT = H_FW^-1 H_FT.
+/// Position error E(q) = p(q) - p0(q) in mm in the workpiece frame, p(q) = translation of H_WT plus
+/// grid terms, p0(q) = q + t - w. Angular error: rotation vector (log map) of rot(H_WT), rad.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "volcomp/model/error_function.hpp"
+#include "volcomp/model/grid.hpp"
+#include "volcomp/model/topology.hpp"
+#include "volcomp/model/types.hpp"
+
+namespace volcomp::model {
+
+/// Everything a model file says, in internal units (mm, rad). Plain data.
+struct MachineModelSpec {
+  std::string name;
+  std::string topology = "FXYZ";
+  /// Travel [min, max] per axis (mm); std::nullopt = unbounded.
+  std::array<std::optional<std::array<double, 2>>, 3> travelMm{};
+  Eigen::Vector3d toolMm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d workpieceMm = Eigen::Vector3d::Zero();
+  /// The 18 motion errors, indexed by motionIndex(axis, kind); default constant 0.
+  std::array<ErrorFunctionSpec, 18> motion{};
+  /// The 9 location errors (rad), indexed by locationIndex(axis, rotationAbout).
+  std::array<double, 9> locationRad{};
+  std::vector<GridSpec> grids;
+};
+
+enum class EvalMode : std::uint8_t {
+  /// Exact rigid-body composition (the reference).
+  Exact,
+  /// Small-displacement evaluation: each carriage's error rotation is applied to its lever arm to
+  /// second order in the angles, angular error to first order; agrees with Exact to O(theta^3 L).
+  FirstOrder,
+};
+
+/// Values of the 18 motion-error components at one point (internal units), indexed by motionIndex.
+using MotionValues = std::array<double, 18>;
+
+/// Result of one evaluation.
+struct PointError {
+  Eigen::Vector3d errorMm = Eigen::Vector3d::Zero();          ///< E(q) = p(q) - p0(q), mm, W frame
+  Eigen::Vector3d angularErrorRad = Eigen::Vector3d::Zero();  ///< rotation vector of rot(H_WT), rad
+  /// Bit K set when axis K was outside its travel and its error functions were evaluated at the
+  /// nearest end of the travel.
+  std::uint8_t clampedAxes = 0;
+};
+
+/// Result of the compensation-offset solve p(q + o) = p0(q).
+struct OffsetSolution {
+  Eigen::Vector3d offsetMm = Eigen::Vector3d::Zero();
+  int iterations = 0;
+  bool converged = false;
+  /// |p(q + o) - p0(q)| at the returned offset, mm.
+  double residualMm = 0.0;
+  std::uint8_t clampedAxes = 0;
+};
+
+struct OffsetOptions {
+  int maxIterations = 50;
+  double toleranceMm = 1e-9;
+  EvalMode mode = EvalMode::Exact;
+};
+
+/// Immutable model. Construct once (may throw ModelError), evaluate many times.
+class MachineModel {
+ public:
+  explicit MachineModel(MachineModelSpec spec);
+
+  const MachineModelSpec& spec() const noexcept { return spec_; }
+  const Topology& topology() const noexcept { return topology_; }
+  const ErrorFunction& motion(int index) const noexcept { return motion_[index]; }
+  const std::vector<Grid>& grids() const noexcept { return grids_; }
+  /// Unit direction d_K = Rz(EC0K) Ry(EB0K) Rx(EA0K) e_K of axis K (precomputed).
+  const Eigen::Vector3d& axisDirection(Axis axis) const noexcept;
+  const Eigen::Vector3d& toolMm() const noexcept { return spec_.toolMm; }
+  const Eigen::Vector3d& workpieceMm() const noexcept { return spec_.workpieceMm; }
+
+ private:
+  MachineModelSpec spec_;
+  Topology topology_;
+  std::array<ErrorFunction, 18> motion_;
+  std::vector<Grid> grids_;
+  std::array<Eigen::Vector3d, 3> direction_;
+};
+
+/// Preallocated scratch space for evaluations (one per thread).
+struct Workspace {
+  MotionValues motion{};
+  std::array<Eigen::Matrix3d, 3> rotation;      ///< error rotation of each axis' carriage
+  std::array<Eigen::Vector3d, 3> translationMm;  ///< carriage translation incl. q d_K and E_K
+};
+
+/// Evaluate the 18 motion-error functions at q (clamped to travel), writing `values`.
+/// Returns the clamped-axes bitmask.
+std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qMm,
+                            const Directions& directions, MotionValues& values) noexcept;
+
+/// Compose the error for given motion values (no function evaluation; grids are added).
+/// Used by evaluate() and by calibration, which supplies its own component values.
+PointError composeError(const MachineModel& model, Workspace& ws, const Eigen::Vector3d& qMm,
+                        const MotionValues& values, const Eigen::Vector3d& toolMm,
+                        EvalMode mode = EvalMode::Exact) noexcept;
+
+/// E(q) and the angular error with the model's own tool offset.
+PointError evaluate(const MachineModel& model, Workspace& ws, const Eigen::Vector3d& qMm,
+                    const Directions& directions = {}, EvalMode mode = EvalMode::Exact) noexcept;
+
+/// Same with a tool offset (mm) that overrides the model's.
+PointError evaluate(const MachineModel& model, Workspace& ws, const Eigen::Vector3d& qMm,
+                    const Eigen::Vector3d& toolMm, const Directions& directions = {},
+                    EvalMode mode = EvalMode::Exact) noexcept;
+
+/// Compensation offset o with p(q + o) = p0(q), by the fixed point o <- o + p0(q) - p(q + o)
+/// starting at o = -E(q). Non-convergence is reported in the result, never hidden.
+OffsetSolution solveOffset(const MachineModel& model, Workspace& ws, const Eigen::Vector3d& qMm,
+                           const Directions& directions = {}, const OffsetOptions& options = {}) noexcept;
+
+}  // namespace volcomp::model

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs everything volcomp needs to build, run and test on Debian 12 (bookworm).
+# Idempotent; run as root or with sudo available.
+set -euo pipefail
+
+packages=(
+  # toolchain
+  g++ cmake ninja-build pkg-config ccache clang-format git
+  # libraries
+  libeigen3-dev libmodbus-dev libasio-dev nlohmann-json3-dev libsystemd-dev
+  libceres-dev libcli11-dev libspdlog-dev libfmt-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev socat python3 systemd
+  # CAN tests in a QEMU guest (this kernel may have no CAN): emulator, busybox, can-utils
+  qemu-system-x86 busybox-static can-utils
+)
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all packages present"
+fi

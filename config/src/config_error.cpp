@@ -1,0 +1,1 @@
+#include "volcomp/config/config_error.hpp"

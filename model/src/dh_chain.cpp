@@ -1,0 +1,1 @@
+#include "volcomp/model/dh_chain.hpp"

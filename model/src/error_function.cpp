@@ -1,0 +1,1 @@
+#include "volcomp/model/error_function.hpp"

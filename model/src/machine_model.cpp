@@ -1,0 +1,1 @@
+#include "volcomp/model/machine_model.hpp"

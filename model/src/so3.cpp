@@ -1,0 +1,1 @@
+#include "volcomp/model/so3.hpp"

@@ -19,6 +19,10 @@ struct AxisSample {
   /// Offsets currently applied by the controller (mm), when the installation maps a read-back.
   bool hasAppliedOffsets = false;
   std::array<double, 3> appliedOffsetMm{};
+  /// The controller's life counter (a PLC cycle counter), when the installation maps one. The
+  /// loop faults with "stale input" when it stops changing for longer than the stale timeout.
+  bool hasSequence = false;
+  std::uint16_t sequence = 0;
 };
 
 /// Everything written in one transaction.
@@ -31,7 +35,9 @@ struct OffsetCommand {
 /// Connection to the controller. `connect` is called by the loop at start and on reconnect
 /// attempts (the loop owns the backoff). Errors that mean "the link is gone" are reported by
 /// read/write as std::errc::not_connected, connection_reset, broken_pipe, network_down,
-/// host_unreachable or timed_out-after-disconnect; the loop maps them with `isLinkError`.
+/// host_unreachable, connection_aborted, connection_refused or network_unreachable (a driver
+/// that sees a timeout after which the link is unusable closes it and reports not_connected);
+/// the loop maps them with `isLinkError`. Any other error is a failed transaction on a live link.
 class Link {
  public:
   virtual ~Link() = default;
@@ -67,6 +73,13 @@ class Clock {
 
 /// True for error codes that mean the transport is down (reconnect), as opposed to a failed
 /// transaction on a live link (timeout, exception reply: fault, link kept).
-bool isLinkError(std::error_code ec) noexcept;
+inline bool isLinkError(std::error_code ec) noexcept {
+  // Comparing with std::errc goes through the category's equivalence, so drivers' own categories
+  // take part as long as they map their link failures onto these generic conditions.
+  return ec == std::errc::not_connected || ec == std::errc::connection_reset ||
+         ec == std::errc::broken_pipe || ec == std::errc::network_down ||
+         ec == std::errc::host_unreachable || ec == std::errc::connection_aborted ||
+         ec == std::errc::connection_refused || ec == std::errc::network_unreachable;
+}
 
 }  // namespace volcomp::daemon

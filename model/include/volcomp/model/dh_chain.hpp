@@ -3,8 +3,14 @@
 /// Standard: A_i = Rz(theta_i) Trans(0,0,d_i) Trans(a_i,0,0) Rx(alpha_i);
 /// modified (Craig): A_i = Rx(alpha_i) Trans(a_i,0,0) Rz(theta_i) Trans(0,0,d_i);
 /// fixed transform: Trans(x,y,z) Rz(rz) Ry(ry) Rx(rx). T = A_1 A_2 ... A_n.
+/// A prismatic joint's variable adds to d, a revolute joint's to theta. T_nominal uses the nominal
+/// parameters, T_actual every parameter plus its deviation (for a fixed transform: translation +
+/// dtranslation and rotation + drotation inside the same Trans Rz Ry Rx product). The error is the
+/// last column of T_actual - T_nominal (seed 000 eq. 13), all in the chain's base frame.
 /// Internal units: mm and rad (the config layer converts the file's degrees).
 
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -50,7 +56,8 @@ struct DhResult {
 
 class DhChain {
  public:
-  /// Throws ModelError on an empty chain or non-finite parameters.
+  /// Throws ModelError on an empty chain, non-finite parameters, or a fixed transform
+  /// (isTransform) whose joint is not Fixed.
   explicit DhChain(DhChainSpec spec);
   const DhChainSpec& spec() const noexcept { return spec_; }
   /// Number of prismatic + revolute joints (the values `evaluate` takes, in chain order).

@@ -1,0 +1,319 @@
+#include "volcomp/config/modbus_config.hpp"
+
+#include <algorithm>
+#include <string_view>
+#include <vector>
+
+#include "volcomp/config/json_reader.hpp"
+
+namespace volcomp::config {
+namespace {
+
+constexpr std::array<const char*, 3> kAxisNames{"X", "Y", "Z"};
+// libmodbus limits (MODBUS_MAX_READ_REGISTERS, MODBUS_MAX_WRITE_REGISTERS,
+// MODBUS_MAX_WR_WRITE_REGISTERS); repeated here because config does not link libmodbus.
+constexpr int kMaxReadRegisters = 125;
+constexpr int kMaxWriteRegisters = 123;
+constexpr int kMaxFc23WriteRegisters = 121;
+
+RegisterTable parseTable(const JsonReader& r) {
+  return r.oneOf({"holding", "input"}) == "input" ? RegisterTable::Input : RegisterTable::Holding;
+}
+
+RegisterType parseType(const JsonReader& r) {
+  const std::string t = r.oneOf({"int16", "uint16", "int32", "uint32", "float32", "float64"});
+  if (t == "int16") return RegisterType::Int16;
+  if (t == "uint16") return RegisterType::Uint16;
+  if (t == "int32") return RegisterType::Int32;
+  if (t == "uint32") return RegisterType::Uint32;
+  if (t == "float32") return RegisterType::Float32;
+  return RegisterType::Float64;
+}
+
+WordOrder parseOrder(const JsonReader& r) {
+  const std::string o = r.oneOf({"ABCD", "CDAB", "BADC", "DCBA"});
+  if (o == "CDAB") return WordOrder::CDAB;
+  if (o == "BADC") return WordOrder::BADC;
+  if (o == "DCBA") return WordOrder::DCBA;
+  return WordOrder::ABCD;
+}
+
+int parseSign(const JsonReader& r) {
+  const auto s = r.integer(-1, 1);
+  if (s == 0) r.failExpected("+1 or -1");
+  return static_cast<int>(s);
+}
+
+double parseScale(const JsonReader& r) {
+  const double s = r.number();
+  if (!(s > 0.0)) r.failExpected("a positive number of counts per mm");
+  return s;
+}
+
+std::uint16_t parseAddress(const JsonReader& r) {
+  return static_cast<std::uint16_t>(r.integer(0, 65535));
+}
+
+/// Defaults for value registers ("registers.defaults").
+struct ValueDefaults {
+  RegisterTable table = RegisterTable::Holding;
+  ValueFormat format;
+};
+
+ValueDefaults parseDefaults(const JsonReader& registers) {
+  ValueDefaults d;
+  const auto defaults = registers.find("defaults");
+  if (!defaults) return d;
+  defaults->allowOnly({"table", "type", "order", "counts_per_mm", "sign"});
+  if (auto v = defaults->find("table")) d.table = parseTable(*v);
+  if (auto v = defaults->find("type")) d.format.type = parseType(*v);
+  if (auto v = defaults->find("order")) d.format.order = parseOrder(*v);
+  if (auto v = defaults->find("counts_per_mm")) d.format.countsPerMm = parseScale(*v);
+  if (auto v = defaults->find("sign")) d.format.sign = parseSign(*v);
+  return d;
+}
+
+ValueRegister parseValue(const JsonReader& r, const ValueDefaults& d) {
+  r.allowOnly({"address", "table", "type", "order", "counts_per_mm", "sign"});
+  ValueRegister v;
+  v.table = d.table;
+  v.format = d.format;
+  v.address = parseAddress(r.at("address"));
+  if (auto x = r.find("table")) v.table = parseTable(*x);
+  if (auto x = r.find("type")) v.format.type = parseType(*x);
+  if (auto x = r.find("order")) v.format.order = parseOrder(*x);
+  if (auto x = r.find("counts_per_mm")) v.format.countsPerMm = parseScale(*x);
+  if (auto x = r.find("sign")) v.format.sign = parseSign(*x);
+  return v;
+}
+
+std::array<ValueRegister, 3> parseAxes(const JsonReader& r, const ValueDefaults& d) {
+  r.allowOnly({"X", "Y", "Z"});
+  std::array<ValueRegister, 3> out{};
+  for (std::size_t i = 0; i < 3; ++i) out[i] = parseValue(r.at(kAxisNames[i]), d);
+  return out;
+}
+
+BitRegister parseBit(const JsonReader& r) {
+  r.allowOnly({"address", "bit", "table"});
+  BitRegister b;
+  b.address = parseAddress(r.at("address"));
+  b.bit = static_cast<std::uint8_t>(r.at("bit").integer(0, 15));
+  if (auto t = r.find("table")) b.table = parseTable(*t);
+  return b;
+}
+
+WordRegister parseWord(const JsonReader& r) {
+  r.allowOnly({"address", "table"});
+  WordRegister w;
+  w.address = parseAddress(r.at("address"));
+  if (auto t = r.find("table")) w.table = parseTable(*t);
+  return w;
+}
+
+// Layout validation -------------------------------------------------------------------------------
+
+enum class FieldKind { Position, Flag, Sequence, Applied, Output };
+
+struct Field {
+  std::string name;  // key path relative to "registers"
+  FieldKind kind;
+  RegisterTable table;
+  int start;
+  int width;
+  int axis = -1;
+  const char* tableName() const { return table == RegisterTable::Input ? "input" : "holding"; }
+};
+
+std::vector<Field> collectFields(const ModbusRegisterMap& m) {
+  std::vector<Field> f;
+  for (int i = 0; i < 3; ++i) {
+    const auto& p = m.position[i];
+    f.push_back({std::string("position.") + kAxisNames[i], FieldKind::Position, p.table, p.address,
+                 registerWidth(p.format.type), i});
+  }
+  f.push_back({"enable", FieldKind::Flag, m.enable.table, m.enable.address, 1});
+  f.push_back({"homed", FieldKind::Flag, m.homed.table, m.homed.address, 1});
+  if (m.sequence)
+    f.push_back({"sequence", FieldKind::Sequence, m.sequence->table, m.sequence->address, 1});
+  if (m.appliedOffset) {
+    for (int i = 0; i < 3; ++i) {
+      const auto& a = (*m.appliedOffset)[i];
+      f.push_back({std::string("applied_offset.") + kAxisNames[i], FieldKind::Applied, a.table,
+                   a.address, registerWidth(a.format.type), i});
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    const auto& o = m.offset[i];
+    f.push_back({std::string("offset.") + kAxisNames[i], FieldKind::Output, o.table, o.address,
+                 registerWidth(o.format.type), i});
+  }
+  f.push_back({"status", FieldKind::Output, RegisterTable::Holding, m.statusAddress, 1});
+  f.push_back({"heartbeat", FieldKind::Output, RegisterTable::Holding, m.heartbeatAddress, 1});
+  return f;
+}
+
+std::string joinPath(const std::string& base, const std::string& rel) {
+  return base.empty() ? rel : base + "." + rel;
+}
+
+bool overlapAllowed(const Field& a, const Field& b, const ModbusRegisterMap& m) {
+  if (a.kind == FieldKind::Flag && b.kind == FieldKind::Flag) {
+    return m.enable.bit != m.homed.bit;
+  }
+  const bool appliedVsOutput = (a.kind == FieldKind::Applied && b.kind == FieldKind::Output) ||
+                               (a.kind == FieldKind::Output && b.kind == FieldKind::Applied);
+  if (appliedVsOutput && a.axis >= 0 && a.axis == b.axis) {
+    const auto& ap = (*m.appliedOffset)[a.axis];
+    const auto& of = m.offset[a.axis];
+    return ap.table == of.table && ap.address == of.address && ap.format.type == of.format.type &&
+           ap.format.order == of.format.order;
+  }
+  return false;
+}
+
+}  // namespace
+
+void validateModbusRegisterMap(const ModbusRegisterMap& m, const std::string& file,
+                               const std::string& keyPath) {
+  const std::vector<Field> fields = collectFields(m);
+  for (const Field& f : fields) {
+    if (f.start + f.width - 1 > 65535) {
+      throw ConfigError(file, joinPath(keyPath, f.name),
+                        "field of " + std::to_string(f.width) + " registers at address " +
+                            std::to_string(f.start) + " runs past address 65535");
+    }
+    if (f.kind == FieldKind::Output && f.table != RegisterTable::Holding) {
+      throw ConfigError(file, joinPath(keyPath, f.name),
+                        "outputs must be holding registers (input registers are read-only)");
+    }
+    if (m.fc23 && f.kind != FieldKind::Output && f.table != RegisterTable::Holding) {
+      throw ConfigError(file, joinPath(keyPath, f.name),
+                        "with fc23 every input must be a holding register (FC23 reads holding "
+                        "registers only)");
+    }
+  }
+  if (m.enable.table == m.homed.table && m.enable.address == m.homed.address &&
+      m.enable.bit == m.homed.bit) {
+    throw ConfigError(file, joinPath(keyPath, "homed.bit"),
+                      "enable and homed use the same bit of the same register");
+  }
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    for (std::size_t j = i + 1; j < fields.size(); ++j) {
+      const Field& a = fields[i];
+      const Field& b = fields[j];
+      if (a.table != b.table) continue;
+      const bool overlap = a.start < b.start + b.width && b.start < a.start + a.width;
+      if (overlap && !overlapAllowed(a, b, m)) {
+        throw ConfigError(file, joinPath(keyPath, b.name),
+                          std::string("overlaps ") + a.name + " (" + a.tableName() + " registers " +
+                              std::to_string(a.start) + ".." +
+                              std::to_string(a.start + a.width - 1) + ")");
+      }
+    }
+  }
+  // Outputs: one gap-free block, so that one FC16 (or FC23) writes all of them.
+  int lo = 65536, hi = -1, total = 0;
+  for (const Field& f : fields) {
+    if (f.kind != FieldKind::Output) continue;
+    lo = std::min(lo, f.start);
+    hi = std::max(hi, f.start + f.width - 1);
+    total += f.width;
+  }
+  const int span = hi - lo + 1;
+  if (span != total) {
+    throw ConfigError(file, keyPath,
+                      "the outputs (offset.X/Y/Z, status, heartbeat) must fill one gap-free block "
+                      "of holding registers so that one transaction writes them all; they span " +
+                          std::to_string(lo) + ".." + std::to_string(hi) + " (" +
+                          std::to_string(span) + " registers) but occupy " + std::to_string(total));
+  }
+  const int maxWrite = m.fc23 ? kMaxFc23WriteRegisters : kMaxWriteRegisters;
+  if (span > maxWrite) {
+    throw ConfigError(file, keyPath,
+                      "the output block has " + std::to_string(span) +
+                          " registers; one write carries at most " + std::to_string(maxWrite));
+  }
+  for (RegisterTable t : {RegisterTable::Holding, RegisterTable::Input}) {
+    int ilo = 65536, ihi = -1;
+    std::string first, last;
+    for (const Field& f : fields) {
+      if (f.kind == FieldKind::Output || f.table != t) continue;
+      if (f.start < ilo) {
+        ilo = f.start;
+        first = f.name;
+      }
+      if (f.start + f.width - 1 > ihi) {
+        ihi = f.start + f.width - 1;
+        last = f.name;
+      }
+    }
+    if (ihi >= 0 && ihi - ilo + 1 > kMaxReadRegisters) {
+      throw ConfigError(file, keyPath,
+                        std::string("the ") + (t == RegisterTable::Input ? "input" : "holding") +
+                            "-register inputs span " + std::to_string(ihi - ilo + 1) +
+                            " registers (" + first + " .. " + last +
+                            "); one read carries at most " + std::to_string(kMaxReadRegisters) +
+                            ": place them closer together");
+    }
+  }
+}
+
+ModbusRegisterMap parseModbusRegisterMap(const nlohmann::json& registers, const std::string& file,
+                                         const std::string& keyPath) {
+  const JsonReader r(registers, file, keyPath);
+  r.allowOnly({"fc23", "defaults", "position", "enable", "homed", "sequence", "applied_offset",
+               "offset", "status", "heartbeat"});
+  const ValueDefaults d = parseDefaults(r);
+  ModbusRegisterMap m;
+  m.fc23 = r.booleanOr("fc23", false);
+  m.position = parseAxes(r.at("position"), d);
+  m.enable = parseBit(r.at("enable"));
+  m.homed = parseBit(r.at("homed"));
+  if (auto s = r.find("sequence")) m.sequence = parseWord(*s);
+  if (auto a = r.find("applied_offset")) m.appliedOffset = parseAxes(*a, d);
+  m.offset = parseAxes(r.at("offset"), d);
+  m.statusAddress = parseAddress(r.at("status"));
+  m.heartbeatAddress = parseAddress(r.at("heartbeat"));
+  validateModbusRegisterMap(m, file, keyPath);
+  return m;
+}
+
+ModbusConfig parseModbusConfig(const nlohmann::json& section, const std::string& file,
+                               const std::string& keyPath) {
+  const JsonReader r(section, file, keyPath);
+  r.expectObject();
+  const std::string type = r.at("type").oneOf({"modbus-tcp", "modbus-rtu"});
+  ModbusConfig c;
+  if (type == "modbus-tcp") {
+    r.allowOnly({"type", "host", "port", "slave_id", "response_timeout_ms", "link_loss_timeouts",
+                 "registers"});
+    TcpLink tcp;
+    tcp.host = r.at("host").string();
+    if (tcp.host.empty()) r.at("host").failExpected("a host name or address");
+    tcp.port = static_cast<std::uint16_t>(r.at("port").integer(1, 65535));
+    c.link = tcp;
+  } else {
+    r.allowOnly({"type", "device", "baud", "parity", "data_bits", "stop_bits", "slave_id",
+                 "response_timeout_ms", "link_loss_timeouts", "registers"});
+    RtuLink rtu;
+    rtu.device = r.at("device").string();
+    if (rtu.device.empty()) r.at("device").failExpected("a serial device path");
+    rtu.baud = static_cast<int>(r.integerOr("baud", 50, 4000000, 115200));
+    if (auto p = r.find("parity")) rtu.parity = p->oneOf({"N", "E", "O"})[0];
+    rtu.dataBits = static_cast<int>(r.integerOr("data_bits", 5, 8, 8));
+    rtu.stopBits = static_cast<int>(r.integerOr("stop_bits", 1, 2, 1));
+    c.link = rtu;
+  }
+  // RTU addresses 1..247; TCP unit identifiers 0..255.
+  c.slaveId = static_cast<int>(type == "modbus-tcp" ? r.integerOr("slave_id", 0, 255, 1)
+                                                    : r.integerOr("slave_id", 1, 247, 1));
+  if (auto t = r.find("response_timeout_ms")) {
+    c.responseTimeoutMs = t->number(0.1, 10000.0);
+  }
+  c.linkLossTimeouts = static_cast<int>(r.integerOr("link_loss_timeouts", 1, 1000, 3));
+  c.registers = parseModbusRegisterMap(r.at("registers").json(), file, r.childPath("registers"));
+  return c;
+}
+
+}  // namespace volcomp::config

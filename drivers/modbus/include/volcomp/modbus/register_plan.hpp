@@ -1,0 +1,67 @@
+#pragma once
+/// Where a register map puts things, in transaction terms: the block of holding registers and the
+/// block of input registers that one read each covers, and the single block one write covers;
+/// and the conversions between those registers and the daemon's AxisSample / OffsetCommand.
+/// Shared by the driver (decode inputs, encode outputs) and the simulated controller (encode
+/// inputs, decode outputs), so that both ends read the map the same way.
+
+#include <cstdint>
+#include <span>
+#include <system_error>
+
+#include "volcomp/config/modbus_config.hpp"
+#include "volcomp/daemon/ports.hpp"
+
+namespace volcomp::modbus {
+
+/// A contiguous range of registers of one table.
+struct Block {
+  std::uint16_t start = 0;
+  std::uint16_t count = 0;  ///< 0 = unused
+  bool contains(std::uint16_t address, int width) const noexcept {
+    return address >= start && address + width <= start + count;
+  }
+};
+
+struct RegisterPlan {
+  Block holdingRead;  ///< all holding-register inputs (one FC03, or the read half of FC23)
+  Block inputRead;    ///< all input-register inputs (one FC04)
+  Block write;        ///< all outputs (one FC16, or the write half of FC23)
+};
+
+/// The blocks of a validated map (config::validateModbusRegisterMap).
+RegisterPlan planRegisters(const config::ModbusRegisterMap& map) noexcept;
+
+/// Registers of one table starting at protocol address `base`: a read buffer, a write buffer or
+/// a whole server-side table.
+struct TableView {
+  std::span<std::uint16_t> registers;
+  std::uint16_t base = 0;
+};
+struct ConstTableView {
+  std::span<const std::uint16_t> registers;
+  std::uint16_t base = 0;
+};
+
+/// Decodes every input of `map` into `out` (positions, enable, homed, sequence and applied
+/// offsets when mapped). `holding` and `input` must cover the plan's read blocks.
+/// Errors: Errc::value_not_finite for a NaN/infinite float (out is then partly written).
+std::error_code decodeInputs(const config::ModbusRegisterMap& map, ConstTableView holding,
+                             ConstTableView input, daemon::AxisSample& out) noexcept;
+
+/// Encodes `command` into the output block (`holding` must cover the plan's write block).
+/// Errors: Errc::value_not_finite, Errc::value_out_of_range (the view may be partly written;
+/// the caller must not send it).
+std::error_code encodeOutputs(const config::ModbusRegisterMap& map,
+                              const daemon::OffsetCommand& command, TableView holding) noexcept;
+
+/// Simulator side: encodes the inputs (bits of enable/homed are set or cleared, other bits of
+/// those registers kept). Values that do not fit saturate; the result says so.
+std::error_code encodeInputs(const config::ModbusRegisterMap& map, const daemon::AxisSample& sample,
+                             TableView holding, TableView input) noexcept;
+
+/// Simulator side: decodes the outputs from the holding table.
+std::error_code decodeOutputs(const config::ModbusRegisterMap& map, ConstTableView holding,
+                              daemon::OffsetCommand& out) noexcept;
+
+}  // namespace volcomp::modbus

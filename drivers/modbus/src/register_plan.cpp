@@ -1,0 +1,154 @@
+#include "volcomp/modbus/register_plan.hpp"
+
+#include <algorithm>
+
+#include "volcomp/modbus/codec.hpp"
+#include "volcomp/modbus/error.hpp"
+
+namespace volcomp::modbus {
+namespace {
+
+using config::RegisterTable;
+
+struct Span {
+  int lo = 65536;
+  int hi = -1;
+  void add(int start, int width) noexcept {
+    lo = std::min(lo, start);
+    hi = std::max(hi, start + width - 1);
+  }
+  Block block() const noexcept {
+    if (hi < 0) return {};
+    return {static_cast<std::uint16_t>(lo), static_cast<std::uint16_t>(hi - lo + 1)};
+  }
+};
+
+std::span<const std::uint16_t> at(ConstTableView v, std::uint16_t address, int width) noexcept {
+  return v.registers.subspan(static_cast<std::size_t>(address - v.base),
+                             static_cast<std::size_t>(width));
+}
+std::span<std::uint16_t> at(TableView v, std::uint16_t address, int width) noexcept {
+  return v.registers.subspan(static_cast<std::size_t>(address - v.base),
+                             static_cast<std::size_t>(width));
+}
+
+template <typename View>
+View pick(RegisterTable t, View holding, View input) noexcept {
+  return t == RegisterTable::Input ? input : holding;
+}
+
+std::error_code toError(CodecStatus s) noexcept {
+  switch (s) {
+    case CodecStatus::Ok:
+      return {};
+    case CodecStatus::Saturated:
+      return Errc::value_out_of_range;
+    case CodecStatus::NotFinite:
+      return Errc::value_not_finite;
+  }
+  return Errc::value_out_of_range;
+}
+
+}  // namespace
+
+RegisterPlan planRegisters(const config::ModbusRegisterMap& m) noexcept {
+  Span holding, input, write;
+  auto addInput = [&](RegisterTable t, int start, int width) {
+    (t == RegisterTable::Input ? input : holding).add(start, width);
+  };
+  for (const auto& p : m.position)
+    addInput(p.table, p.address, config::registerWidth(p.format.type));
+  addInput(m.enable.table, m.enable.address, 1);
+  addInput(m.homed.table, m.homed.address, 1);
+  if (m.sequence) addInput(m.sequence->table, m.sequence->address, 1);
+  if (m.appliedOffset) {
+    for (const auto& a : *m.appliedOffset) {
+      addInput(a.table, a.address, config::registerWidth(a.format.type));
+    }
+  }
+  for (const auto& o : m.offset) write.add(o.address, config::registerWidth(o.format.type));
+  write.add(m.statusAddress, 1);
+  write.add(m.heartbeatAddress, 1);
+  return {holding.block(), input.block(), write.block()};
+}
+
+std::error_code decodeInputs(const config::ModbusRegisterMap& m, ConstTableView holding,
+                             ConstTableView input, daemon::AxisSample& out) noexcept {
+  std::error_code result;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto& p = m.position[i];
+    const auto regs =
+        at(pick(p.table, holding, input), p.address, config::registerWidth(p.format.type));
+    if (auto ec = toError(decode(regs, p.format, out.positionMm[i])); ec && !result) result = ec;
+  }
+  auto bit = [&](const config::BitRegister& b) {
+    return ((at(pick(b.table, holding, input), b.address, 1)[0] >> b.bit) & 1U) != 0;
+  };
+  out.enable = bit(m.enable);
+  out.homed = bit(m.homed);
+  out.hasSequence = m.sequence.has_value();
+  if (m.sequence)
+    out.sequence = at(pick(m.sequence->table, holding, input), m.sequence->address, 1)[0];
+  out.hasAppliedOffsets = m.appliedOffset.has_value();
+  if (m.appliedOffset) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      const auto& a = (*m.appliedOffset)[i];
+      const auto regs =
+          at(pick(a.table, holding, input), a.address, config::registerWidth(a.format.type));
+      if (auto ec = toError(decode(regs, a.format, out.appliedOffsetMm[i])); ec && !result)
+        result = ec;
+    }
+  }
+  return result;
+}
+
+std::error_code encodeOutputs(const config::ModbusRegisterMap& m,
+                              const daemon::OffsetCommand& command, TableView holding) noexcept {
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto& o = m.offset[i];
+    const auto regs = at(holding, o.address, config::registerWidth(o.format.type));
+    if (auto ec = toError(encode(command.offsetMm[i], o.format, regs))) return ec;
+  }
+  at(holding, m.statusAddress, 1)[0] = command.status;
+  at(holding, m.heartbeatAddress, 1)[0] = command.heartbeat;
+  return {};
+}
+
+std::error_code encodeInputs(const config::ModbusRegisterMap& m, const daemon::AxisSample& sample,
+                             TableView holding, TableView input) noexcept {
+  std::error_code result;
+  auto put = [&](const config::ValueRegister& r, double mm) {
+    const auto regs =
+        at(pick(r.table, holding, input), r.address, config::registerWidth(r.format.type));
+    if (auto ec = toError(encode(mm, r.format, regs)); ec && !result) result = ec;
+  };
+  for (std::size_t i = 0; i < 3; ++i) put(m.position[i], sample.positionMm[i]);
+  auto setBit = [&](const config::BitRegister& b, bool on) {
+    auto& reg = at(pick(b.table, holding, input), b.address, 1)[0];
+    const auto mask = static_cast<std::uint16_t>(1U << b.bit);
+    reg = on ? static_cast<std::uint16_t>(reg | mask) : static_cast<std::uint16_t>(reg & ~mask);
+  };
+  setBit(m.enable, sample.enable);
+  setBit(m.homed, sample.homed);
+  if (m.sequence)
+    at(pick(m.sequence->table, holding, input), m.sequence->address, 1)[0] = sample.sequence;
+  if (m.appliedOffset) {
+    for (std::size_t i = 0; i < 3; ++i) put((*m.appliedOffset)[i], sample.appliedOffsetMm[i]);
+  }
+  return result;
+}
+
+std::error_code decodeOutputs(const config::ModbusRegisterMap& m, ConstTableView holding,
+                              daemon::OffsetCommand& out) noexcept {
+  std::error_code result;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto& o = m.offset[i];
+    const auto regs = at(holding, o.address, config::registerWidth(o.format.type));
+    if (auto ec = toError(decode(regs, o.format, out.offsetMm[i])); ec && !result) result = ec;
+  }
+  out.status = at(holding, m.statusAddress, 1)[0];
+  out.heartbeat = at(holding, m.heartbeatAddress, 1)[0];
+  return result;
+}
+
+}  // namespace volcomp::modbus

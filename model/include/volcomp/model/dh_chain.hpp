@@ -63,8 +63,8 @@ class DhChain {
   /// Number of prismatic + revolute joints (the values `evaluate` takes, in chain order).
   int jointCount() const noexcept { return jointCount_; }
   /// jointValues: jointCount() values, mm for prismatic and rad for revolute joints, in chain
-  /// order; fixed links take none. T_nominal uses nominal parameters only, T_actual adds every
-  /// deviation. Never allocates.
+  /// order; fixed links take none (may be null when jointCount() is 0). T_nominal uses nominal
+  /// parameters only, T_actual adds every deviation. Never allocates.
   DhResult evaluate(const double* jointValues) const noexcept;
 
  private:

@@ -1,0 +1,210 @@
+#include "eval_verb.hpp"
+
+#include <numbers>
+#include <ostream>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+#include "eval_points.hpp"
+#include "volcomp/config/model_file.hpp"
+#include "volcomp/model/dh_chain.hpp"
+#include "volcomp/model/machine_model.hpp"
+
+namespace volcomp::cli {
+namespace {
+
+using OrderedJson = nlohmann::ordered_json;
+
+OrderedJson jsonVector(const Eigen::Vector3d& v) {
+  return OrderedJson::array({v.x(), v.y(), v.z()});
+}
+
+OrderedJson jsonMatrix(const Eigen::Matrix4d& m) {
+  OrderedJson rows = OrderedJson::array();
+  for (int r = 0; r < 4; ++r) {
+    rows.push_back(
+        OrderedJson::array({tidy(m(r, 0)), tidy(m(r, 1)), tidy(m(r, 2)), tidy(m(r, 3))}));
+  }
+  return rows;
+}
+
+std::string triple(const Eigen::Vector3d& v) {
+  return formatDouble(tidy(v.x())) + ", " + formatDouble(tidy(v.y())) + ", " +
+         formatDouble(tidy(v.z()));
+}
+
+void warnClamped(std::ostream& err, const model::MachineModelSpec& spec, std::uint8_t mask) {
+  if (mask == 0) return;
+  std::string detail;
+  for (int axis = 0; axis < 3; ++axis) {
+    if ((mask & (1u << axis)) == 0 || !spec.travelMm[axis]) continue;
+    if (!detail.empty()) detail += ", ";
+    detail += std::string(1, "XYZ"[axis]) + " [" + formatDouble((*spec.travelMm[axis])[0]) + ", " +
+              formatDouble((*spec.travelMm[axis])[1]) + "]";
+  }
+  err << "volcomp eval: warning: outside the travel (" << detail
+      << " mm): error functions evaluated at the nearest end of the travel\n";
+}
+
+model::EvalMode evalMode(const EvalOptions& options) {
+  return options.mode == "first-order" ? model::EvalMode::FirstOrder : model::EvalMode::Exact;
+}
+
+int evalChain(const EvalOptions& options, const model::DhChainSpec& spec, std::ostream& out) {
+  if (!options.tool.empty() || !options.direction.empty() || !options.points.empty()) {
+    throw UsageError("--tool, --direction and --points apply to 3-axis models, not to D-H chains");
+  }
+  const model::DhChain chain(spec);
+  const std::vector<double> given =
+      parseNumberList(options.at, "--at (one value per joint: mm prismatic, deg revolute)",
+                      static_cast<std::size_t>(chain.jointCount()));
+  std::vector<double> joints;
+  std::size_t next = 0;
+  for (const model::DhLinkSpec& link : spec.links) {
+    if (link.joint == model::JointType::Prismatic) joints.push_back(given[next++]);
+    if (link.joint == model::JointType::Revolute) {
+      joints.push_back(given[next++] * std::numbers::pi / 180.0);
+    }
+  }
+  const model::DhResult r = chain.evaluate(joints.data());
+  if (options.json) {
+    OrderedJson o;
+    o["position"] = given;
+    o["error"] = jsonVector(r.errorMm);
+    o["angular_error"] = jsonVector(r.angularErrorRad);
+    o["T_nominal"] = jsonMatrix(r.tNominal);
+    o["T_actual"] = jsonMatrix(r.tActual);
+    out << o.dump() << '\n';
+    return kExitOk;
+  }
+  std::string joined;
+  for (double v : given) joined += (joined.empty() ? "" : ", ") + formatDouble(v);
+  const Eigen::IOFormat rows(Eigen::FullPrecision, 0, "  ", "\n", "            ", "");
+  out << "chain          " << (spec.name.empty() ? std::string("(unnamed)") : spec.name) << ", "
+      << spec.links.size() << " links, " << chain.jointCount() << " joints\n"
+      << "joints         " << joined << "  (mm prismatic, deg revolute)\n"
+      << "error          " << triple(r.errorMm) << "  mm\n"
+      << "angular error  " << triple(r.angularErrorRad) << "  rad\n"
+      << "T_nominal\n"
+      << r.tNominal.format(rows) << "\nT_actual\n"
+      << r.tActual.format(rows) << '\n';
+  return kExitOk;
+}
+
+int evalPoint(const EvalOptions& options, const model::MachineModel& model,
+              const model::Directions& directions, std::ostream& out, std::ostream& err) {
+  const std::vector<double> at = parseNumberList(options.at, "--at X,Y,Z (mm)", 3);
+  const Eigen::Vector3d qMm(at[0], at[1], at[2]);
+  model::Workspace ws;
+  const model::EvalMode mode = evalMode(options);
+  const model::PointError e = model::evaluate(model, ws, qMm, directions, mode);
+  model::OffsetOptions offsetOptions;
+  offsetOptions.mode = mode;
+  const model::OffsetSolution o = model::solveOffset(model, ws, qMm, directions, offsetOptions);
+  warnClamped(err, model.spec(), e.clampedAxes);
+  if (options.json) {
+    OrderedJson j;
+    j["position"] = jsonVector(qMm);
+    j["error"] = jsonVector(e.errorMm);
+    j["angular_error"] = jsonVector(e.angularErrorRad);
+    j["offset"] = jsonVector(o.offsetMm);
+    out << j.dump() << '\n';
+  } else {
+    const model::MachineModelSpec& spec = model.spec();
+    out << "model          " << (spec.name.empty() ? std::string("(unnamed)") : spec.name) << " ("
+        << spec.topology << ")\n"
+        << "position       " << triple(qMm) << "  mm\n"
+        << "tool           " << triple(spec.toolMm) << "  mm\n"
+        << "error          " << triple(e.errorMm) << "  mm\n"
+        << "angular error  " << triple(e.angularErrorRad) << "  rad\n"
+        << "offset         " << triple(o.offsetMm) << "  mm ("
+        << (o.converged ? "converged" : "NOT converged") << " in " << o.iterations
+        << " iterations, residual " << formatDouble(o.residualMm) << " mm)\n";
+  }
+  if (!o.converged) {
+    err << "volcomp eval: the compensation offset did not converge (residual "
+        << formatDouble(o.residualMm) << " mm after " << o.iterations
+        << " iterations): the printed offset is not reliable\n";
+    return kExitNotConverged;
+  }
+  return kExitOk;
+}
+
+int evalPoints(const EvalOptions& options, const model::MachineModel& model,
+               const model::Directions& directions, std::ostream& err) {
+  const PointsSummary s =
+      evaluatePointsFile(model, directions, evalMode(options), options.points, options.out);
+  if (s.clampedRows > 0) {
+    err << "volcomp eval: warning: " << s.clampedRows << " of " << s.rows
+        << " points outside the travel (first at " << options.points << " line "
+        << s.firstClampedLine << "): error functions evaluated at the nearest end of the travel\n";
+  }
+  if (s.notConvergedRows > 0) {
+    err << "volcomp eval: the compensation offset did not converge for " << s.notConvergedRows
+        << " of " << s.rows << " points (first at " << options.points << " line "
+        << s.firstNotConvergedLine << "): those offsets in " << options.out
+        << " are not reliable\n";
+    return kExitNotConverged;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+CLI::App* addEvalVerb(CLI::App& app, EvalOptions& options) {
+  CLI::App* verb = app.add_subcommand(
+      "eval",
+      "Evaluate a model: volumetric error E = p - p0 (mm, workpiece frame), angular error "
+      "(rotation vector, rad) and compensation offset o with p(q + o) = p0(q) (mm).");
+  verb->add_option("model", options.modelPath, "Model file (volcomp-model/1 JSON)")->required();
+  CLI::Option* at = verb->add_option(
+      "--at", options.at,
+      "Point X,Y,Z in mm; for a D-H chain one value per joint in chain order (mm prismatic, "
+      "deg revolute)");
+  CLI::Option* points =
+      verb->add_option("--points", options.points, "CSV file with header x,y,z (mm)");
+  CLI::Option* outFile = verb->add_option("--out", options.out,
+                                          "CSV output: x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz (mm, rad)");
+  at->excludes(points);
+  points->needs(outFile);
+  outFile->needs(points);
+  verb->add_option("--tool", options.tool, "Tool offset TX,TY,TZ in mm (overrides the model's)");
+  verb->add_option("--direction", options.direction,
+                   "Direction of travel per axis, e.g. +,-,+ (0 = unknown: mean of the "
+                   "bidirectional curves, the default)");
+  verb->add_option("--mode", options.mode, "exact (the reference) or first-order (small angles)")
+      ->check(CLI::IsMember({"exact", "first-order"}));
+  verb->add_flag("--json", options.json,
+                 "Print one JSON object {position, error, angular_error, offset} (D-H chains: "
+                 "{position, error, angular_error, T_nominal, T_actual})");
+  verb->footer(
+      "Exit status: 0 success; 2 bad arguments or bad file (one line on stderr); 3 results "
+      "printed but a compensation offset did not converge. Points outside the travel are "
+      "evaluated at the nearest end of the travel, with a warning on stderr.");
+  return verb;
+}
+
+int runEval(const EvalOptions& options, std::ostream& out, std::ostream& err) {
+  if (options.at.empty() && options.points.empty()) {
+    throw UsageError("eval: give --at X,Y,Z or --points IN.csv --out OUT.csv");
+  }
+  const config::ModelDocument doc = config::loadModelFile(options.modelPath);
+  if (const auto* chain = std::get_if<model::DhChainSpec>(&doc.spec)) {
+    return evalChain(options, *chain, out);
+  }
+  model::MachineModelSpec spec = std::get<model::MachineModelSpec>(doc.spec);
+  if (!options.tool.empty()) {
+    const std::vector<double> t = parseNumberList(options.tool, "--tool TX,TY,TZ (mm)", 3);
+    spec.toolMm = Eigen::Vector3d(t[0], t[1], t[2]);
+  }
+  const model::Directions directions =
+      options.direction.empty() ? model::Directions{} : parseDirections(options.direction);
+  const model::MachineModel model(std::move(spec));
+  if (!options.points.empty()) return evalPoints(options, model, directions, err);
+  return evalPoint(options, model, directions, out, err);
+}
+
+}  // namespace volcomp::cli

@@ -1,0 +1,69 @@
+// volcomp: command-line access to volumetric error models (verbs `eval` and `check`).
+// Errors are caught here only: one line on stderr, exit status 2 for bad arguments or files.
+
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "check_verb.hpp"
+#include "cli_support.hpp"
+#include "eval_verb.hpp"
+#include "volcomp/config/config_error.hpp"
+#include "volcomp/model/types.hpp"
+
+namespace {
+
+// The contract is one line on stderr; some CLI11 messages span several.
+std::string oneLine(std::string text) {
+  for (char& c : text) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace volcomp::cli;
+  CLI::App app{
+      "volcomp: volumetric error models of 3-axis machine tools (ISO 230-1 components, grids, "
+      "D-H chains). Units: mm and rad unless stated."};
+  app.set_version_flag("--version", std::string("volcomp ") + VOLCOMP_VERSION);
+  app.require_subcommand(1);
+  app.footer(
+      "Exit status: 0 success; 2 bad arguments or bad file; 3 (eval) an offset did not "
+      "converge. Run 'volcomp VERB --help' for a verb's options.");
+  EvalOptions evalOptions;
+  CheckOptions checkOptions;
+  CLI::App* eval = addEvalVerb(app, evalOptions);
+  CLI::App* check = addCheckVerb(app, checkOptions);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    std::cerr << "volcomp: " << oneLine(e.what()) << " (see volcomp --help)\n";
+    return kExitBadInput;
+  }
+
+  try {
+    if (eval->parsed()) return runEval(evalOptions, std::cout, std::cerr);
+    if (check->parsed()) return runCheck(checkOptions, std::cout);
+  } catch (const volcomp::config::ConfigError& e) {
+    std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
+    return kExitBadInput;
+  } catch (const UsageError& e) {
+    std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
+    return kExitBadInput;
+  } catch (const volcomp::model::ModelError& e) {
+    std::cerr << "volcomp: invalid model: " << oneLine(e.what()) << '\n';
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "volcomp: internal error: " << oneLine(e.what()) << '\n';
+    return 1;
+  }
+  return kExitBadInput;
+}

@@ -18,8 +18,13 @@ namespace {
 
 using OrderedJson = nlohmann::ordered_json;
 
+// Adding 0.0 turns -0 into 0: a sign on zero means nothing to a reader of the output.
+double tidy(double v) {
+  return v + 0.0;
+}
+
 OrderedJson jsonVector(const Eigen::Vector3d& v) {
-  return OrderedJson::array({v.x(), v.y(), v.z()});
+  return OrderedJson::array({tidy(v.x()), tidy(v.y()), tidy(v.z())});
 }
 
 OrderedJson jsonMatrix(const Eigen::Matrix4d& m) {

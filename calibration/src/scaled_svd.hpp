@@ -1,0 +1,35 @@
+#pragma once
+// Internal: the column-scaled factorisation shared by the linear solve and the analysis.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/QR>
+
+#include "volcomp/calibration/least_squares.hpp"
+
+namespace volcomp::calibration {
+
+/// Js = J D = U S V^T (D = diag(1 / column norms)); for m >= n through Js = Q R, R = U_R S V^T.
+struct ScaledSvd {
+  ScaledSvd(const Eigen::MatrixXd& jacobian, double rankTolerance);
+  /// U_k^T r.
+  Eigen::VectorXd projectResiduals(const Eigen::VectorXd& residuals) const;
+  /// Minimum-norm (scaled) Gauss-Newton step dp = -D V_k S_k^-1 U_k^T r.
+  Eigen::VectorXd step(const Eigen::VectorXd& residuals) const;
+
+  Eigen::VectorXd columnScale;
+  Eigen::VectorXd singularValues;
+  Eigen::MatrixXd uSmall;
+  Eigen::MatrixXd v;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr;
+  bool tall = true;
+  int rank = 0;
+};
+
+FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::MatrixXd& jacobian,
+                                const Eigen::VectorXd& residuals,
+                                const std::vector<std::string>& names);
+
+}  // namespace volcomp::calibration

@@ -1,0 +1,45 @@
+#pragma once
+/// The programmed tool path of the simulated machine: a closed loop travelled at a constant feed,
+/// so that the programmed position is a pure function of the path time. Positions in mm (machine
+/// axes X, Y, Z), feed in mm/min, time in s.
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace volcomp::sim {
+
+using Vec3 = std::array<double, 3>;
+
+class Path {
+ public:
+  /// Straight segments through `points`, back to the first point, then again.
+  static Path polyline(std::vector<Vec3> points, double feedMmMin);
+  /// Zig-zag lines along X from `from` to `to`, stepping Y by `stepMm`; with from.z != to.z the
+  /// pattern repeats on Z levels `stepMm` apart. Closed by a straight return to the start.
+  static Path raster(const Vec3& from, const Vec3& to, double stepMm, double feedMmMin);
+  /// Circle in the XY plane around `center` (at center.z), counter-clockwise from +X.
+  static Path circle(const Vec3& center, double radiusMm, double feedMmMin);
+  /// Points from a CSV file: one "x,y,z" row per point, an optional header row. Throws
+  /// std::runtime_error naming the file and line.
+  static Path fromCsv(const std::string& file, double feedMmMin);
+
+  /// Programmed position after `pathTimeS` seconds of motion.
+  Vec3 at(double pathTimeS) const noexcept;
+  double lengthMm() const noexcept { return lengthMm_; }
+  double feedMmMin() const noexcept { return feedMmMin_; }
+  /// Axis-aligned bounds of the path, mm.
+  std::array<Vec3, 2> bounds() const noexcept;
+
+ private:
+  enum class Kind { Polyline, Circle };
+  Kind kind_ = Kind::Polyline;
+  std::vector<Vec3> points_;   // polyline vertices, closed (last = first)
+  std::vector<double> cumMm_;  // arc length at each vertex
+  Vec3 center_{};
+  double radiusMm_ = 0.0;
+  double lengthMm_ = 0.0;
+  double feedMmMin_ = 0.0;
+};
+
+}  // namespace volcomp::sim

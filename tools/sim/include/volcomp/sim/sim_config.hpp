@@ -1,0 +1,71 @@
+#pragma once
+/// The simulator's configuration file (volcomp-sim --config FILE):
+///   {
+///     "model": "vmc-850-true.json",        optional: the TRUE error model (relative to this file);
+///                                          absent = a perfect machine
+///     "position_semantics": "commanded" | "actual",
+///     "path": {"type": "raster", "from": [x,y,z], "to": [x,y,z], "step_mm": 50, "feed_mm_min":
+///     3000}
+///           | {"type": "circle", "center": [x,y,z], "radius_mm": 100, "feed_mm_min": 3000}
+///           | {"type": "points", "points": [[x,y,z], ...], "feed_mm_min": 3000}
+///           | {"type": "csv", "file": "path.csv", "feed_mm_min": 3000},
+///     "limits": {"max_offset_mm": 0.5, "max_rate_mm_s": 1.0, "rate_tolerance_ms": 5},
+///     "heartbeat_timeout_ms": 0,           controller-side watchdog, 0 = none
+///     "watchdog_ramp_mm_s": 1.0,           rate at which the watchdog removes the offsets
+///     "initial_offset_mm": [0, 0, 0],      offsets applied at start (left from an earlier run)
+///     "settle_ms": 0,                      statistics start this long after the first write
+///     "tick_ms": 1,                        sampling period of the error statistics
+///     "transport": { the Modbus transport section, as in the daemon's configuration }
+///   }
+/// The limits should be the daemon's limiter settings: the simulator checks every write with them.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "volcomp/config/modbus_config.hpp"
+#include "volcomp/sim/machine.hpp"
+#include "volcomp/sim/path.hpp"
+
+namespace volcomp::sim {
+
+struct PathSpec {
+  std::string type = "circle";
+  Vec3 from{}, to{};
+  double stepMm = 10.0;
+  Vec3 center{};
+  double radiusMm = 50.0;
+  std::vector<Vec3> points;
+  std::string csvFile;  ///< resolved against the configuration file's directory
+  double feedMmMin = 1000.0;
+};
+
+struct SimConfig {
+  std::string file;
+  std::optional<std::string> modelPath;  ///< resolved against the configuration file's directory
+  PathSpec path;
+  MachineOptions machine;
+  double tickS = 0.001;
+  config::ModbusConfig transport;
+};
+
+/// Throws config::ConfigError (file, key path, what was expected).
+SimConfig loadSimConfig(const std::string& file);
+SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file);
+
+/// Builds the path (a CSV path is read here; errors as std::runtime_error).
+Path makePath(const PathSpec& spec);
+
+/// One register count of each offset output in mm (0 for float registers).
+Vec3 offsetQuantumMm(const config::ModbusRegisterMap& map) noexcept;
+
+/// Travel [min, max] per axis (mm) as a model file declares it; std::nullopt = unbounded.
+using Travel = std::array<std::optional<std::array<double, 2>>, 3>;
+
+/// The true error E(q) of a 3-axis model file (and its travel, when `travel` is given).
+/// Throws config::ConfigError.
+ErrorFunction loadTrueError(const std::string& modelFile, Travel* travel = nullptr);
+
+}  // namespace volcomp::sim

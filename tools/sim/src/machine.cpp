@@ -1,0 +1,287 @@
+#include "volcomp/sim/machine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace volcomp::sim {
+namespace {
+
+constexpr std::array<const char*, 3> kAxes{"X", "Y", "Z"};
+constexpr double kForever = std::numeric_limits<double>::infinity();
+
+double until(double tS, double durationS) noexcept {
+  return durationS > 0.0 ? tS + durationS : kForever;
+}
+
+double rmsUm(double sumSq, std::uint64_t n) noexcept {
+  return n == 0 ? 0.0 : std::sqrt(sumSq / static_cast<double>(n)) * 1000.0;
+}
+
+}  // namespace
+
+void ErrorStatistics::add(const Vec3& e) noexcept {
+  ++samples;
+  const double n2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+  sumSqNorm += n2;
+  maxNorm = std::max(maxNorm, std::sqrt(n2));
+  for (std::size_t k = 0; k < 3; ++k) {
+    sumSqAxis[k] += e[k] * e[k];
+    maxAbsAxis[k] = std::max(maxAbsAxis[k], std::abs(e[k]));
+  }
+}
+
+Machine::Machine(Path path, ErrorFunction trueError, MachineOptions options)
+    : path_(std::move(path)), trueError_(std::move(trueError)), options_(options) {
+  applied_ = options_.initialOffsetMm;
+  enable_ = options_.enable;
+  homed_ = options_.homed;
+  programmed_ = path_.at(0.0);
+}
+
+void Machine::advanceLocked(double tS) {
+  if (!started_) {
+    started_ = true;
+    lastT_ = tS;
+  }
+  const double dt = tS - lastT_;
+  if (dt <= 0.0) return;
+  // Feed hold: the path time stops for the part of dt inside the hold.
+  // hold() advances the machine first, so a hold always starts at lastT_ or earlier.
+  double moving = dt;
+  if (activeAt(holdUntil_, tS)) {
+    moving = 0.0;
+  } else if (lastT_ < holdUntil_) {
+    moving = tS - holdUntil_;
+  }
+  pathTimeS_ += moving;
+  programmed_ = path_.at(pathTimeS_);
+  if (options_.heartbeatTimeoutS > 0.0 && anyWrite_ &&
+      tS - lastHeartbeatChangeT_ > options_.heartbeatTimeoutS) {
+    if (!watchdogTripped_) {
+      watchdogTripped_ = true;
+      ++watchdogTrips_;
+    }
+    // The controller removes the offsets itself, at its own rate (like Siemens CORR_VELO).
+    const double step = options_.watchdogRampMmS * dt;
+    for (auto& o : applied_) o = o > 0.0 ? std::max(0.0, o - step) : std::min(0.0, o + step);
+  }
+  lastT_ = tS;
+}
+
+daemon::AxisSample Machine::inputs(double tS) {
+  std::lock_guard lock(mutex_);
+  advanceLocked(tS);
+  ++sequence_;
+  if (activeAt(freezeUntil_, tS)) {
+    daemon::AxisSample s = frozenSample_;
+    s.enable = enable_;
+    s.homed = homed_;
+    return s;
+  }
+  daemon::AxisSample s;
+  for (std::size_t k = 0; k < 3; ++k) {
+    s.positionMm[k] = options_.semantics == config::PositionSemantics::Actual
+                          ? programmed_[k] + applied_[k]
+                          : programmed_[k];
+  }
+  s.enable = enable_;
+  s.homed = homed_;
+  s.hasAppliedOffsets = true;
+  s.appliedOffsetMm = applied_;
+  s.hasSequence = true;
+  s.sequence = sequence_;
+  frozenSample_ = s;
+  return s;
+}
+
+void Machine::onSessionStart(double tS) {
+  std::lock_guard lock(mutex_);
+  advanceLocked(tS);
+  ++sessions_;
+  sessionStartT_ = tS;
+  sessionWritten_ = false;
+}
+
+void Machine::onWrite(double tS, const daemon::OffsetCommand& command, bool partial) {
+  std::lock_guard lock(mutex_);
+  advanceLocked(tS);
+  WriteRecord rec;
+  rec.timeS = tS;
+  rec.offsetMm = command.offsetMm;
+  rec.status = command.status;
+  rec.heartbeat = command.heartbeat;
+  rec.partial = partial;
+  if (partial) ++partialWrites_;
+  // The reference of the rate check is what the controller applies right now (after any
+  // watchdog ramp); dt runs from the previous write of this session, or from the session start.
+  const double refT = sessionWritten_ ? lastWriteT_ : sessionStartT_;
+  const double dt = std::max(0.0, tS - refT);
+  const Limits& lim = options_.limits;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double o = command.offsetMm[k];
+    const double q = lim.quantumMm[k];
+    std::string what;
+    if (!std::isfinite(o)) {
+      what = "not finite";
+    } else if (std::abs(o) > lim.maxOffsetMm + q + 1e-9) {
+      what =
+          "|offset| " + std::to_string(o) + " mm > max_offset " + std::to_string(lim.maxOffsetMm);
+      ++offsetViolations_;
+    } else if (std::abs(o - applied_[k]) >
+               lim.maxRateMmS * (dt + lim.rateToleranceS) + 2.0 * q + 1e-9) {
+      what = "step " + std::to_string(o - applied_[k]) + " mm in " + std::to_string(dt) +
+             " s > max_rate " + std::to_string(lim.maxRateMmS) + " mm/s";
+      ++rateViolations_;
+    }
+    if (!what.empty()) {
+      rec.violation = true;
+      ++axisViolations_[k];
+      if (firstViolation_.empty()) {
+        std::ostringstream msg;
+        msg << "t=" << tS << " s axis " << kAxes[k] << ": " << what;
+        firstViolation_ = msg.str();
+      }
+    }
+    if (std::isfinite(o)) maxAbsWrittenMm_[k] = std::max(maxAbsWrittenMm_[k], std::abs(o));
+  }
+  if (rec.violation) ++violations_;
+  // A controller takes what it is given (that is why the daemon limits it); non-finite values
+  // are refused by any real controller's range check.
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (std::isfinite(command.offsetMm[k])) applied_[k] = command.offsetMm[k];
+  }
+  if (!anyWrite_) {
+    anyWrite_ = true;
+    firstWriteT_ = tS;
+    lastHeartbeatChangeT_ = tS;
+    lastHeartbeat_ = command.heartbeat;
+  } else if (command.heartbeat != lastHeartbeat_) {
+    lastHeartbeat_ = command.heartbeat;
+    lastHeartbeatChangeT_ = tS;
+    watchdogTripped_ = false;
+  }
+  sessionWritten_ = true;
+  lastWriteT_ = tS;
+  writes_.push_back(rec);
+}
+
+TransportFault Machine::transportFault(double tS) {
+  std::lock_guard lock(mutex_);
+  TransportFault f;
+  f.stall = activeAt(stallUntil_, tS);
+  f.linkDown = activeAt(dropUntil_, tS);
+  f.exceptionCode = activeAt(exceptionUntil_, tS) ? exceptionCode_ : 0;
+  return f;
+}
+
+void Machine::countRequest(bool answered, bool exception) {
+  std::lock_guard lock(mutex_);
+  ++requests_;
+  if (!answered) ++unanswered_;
+  if (exception) ++exceptionsSent_;
+}
+
+void Machine::sample(double tS) {
+  std::lock_guard lock(mutex_);
+  advanceLocked(tS);
+  if (!anyWrite_ || tS < firstWriteT_ + options_.settleS) return;
+  const Vec3 q = programmed_;
+  const Vec3 e = trueError_(q);
+  Vec3 moved{};
+  for (std::size_t k = 0; k < 3; ++k) moved[k] = q[k] + applied_[k];
+  const Vec3 em = trueError_(moved);
+  Vec3 comp{};
+  for (std::size_t k = 0; k < 3; ++k) comp[k] = em[k] + applied_[k];
+  uncompensated_.add(e);
+  compensated_.add(comp);
+}
+
+void Machine::stall(double tS, double durationS) {
+  std::lock_guard lock(mutex_);
+  stallUntil_ = until(tS, durationS);
+}
+void Machine::dropLink(double tS, double durationS) {
+  std::lock_guard lock(mutex_);
+  dropUntil_ = until(tS, durationS);
+}
+void Machine::exception(double tS, int code, double durationS) {
+  std::lock_guard lock(mutex_);
+  exceptionCode_ = code;
+  exceptionUntil_ = until(tS, durationS);
+}
+void Machine::freeze(double tS, double durationS) {
+  std::lock_guard lock(mutex_);
+  freezeUntil_ = until(tS, durationS);
+}
+void Machine::hold(double tS, double durationS) {
+  std::lock_guard lock(mutex_);
+  advanceLocked(tS);
+  holdUntil_ = until(tS, durationS);
+}
+void Machine::setEnable(bool on) {
+  std::lock_guard lock(mutex_);
+  enable_ = on;
+}
+void Machine::setHomed(bool on) {
+  std::lock_guard lock(mutex_);
+  homed_ = on;
+}
+void Machine::resume() {
+  std::lock_guard lock(mutex_);
+  stallUntil_ = dropUntil_ = exceptionUntil_ = freezeUntil_ = holdUntil_ = 0.0;
+}
+
+std::vector<WriteRecord> Machine::writes() const {
+  std::lock_guard lock(mutex_);
+  return writes_;
+}
+Vec3 Machine::appliedOffsetMm() const {
+  std::lock_guard lock(mutex_);
+  return applied_;
+}
+Vec3 Machine::programmedPositionMm() const {
+  std::lock_guard lock(mutex_);
+  return programmed_;
+}
+
+nlohmann::json Machine::report(double tS) const {
+  std::lock_guard lock(mutex_);
+  using nlohmann::json;
+  json axes = json::object();
+  for (std::size_t k = 0; k < 3; ++k) {
+    axes[kAxes[k]] = {
+        {"rms_uncompensated_um", rmsUm(uncompensated_.sumSqAxis[k], uncompensated_.samples)},
+        {"rms_compensated_um", rmsUm(compensated_.sumSqAxis[k], compensated_.samples)},
+        {"max_uncompensated_um", uncompensated_.maxAbsAxis[k] * 1000.0},
+        {"max_compensated_um", compensated_.maxAbsAxis[k] * 1000.0},
+        {"limiter_violations", axisViolations_[k]},
+        {"max_abs_offset_written_mm", maxAbsWrittenMm_[k]},
+    };
+  }
+  return json{
+      {"duration_s", tS},
+      {"samples", compensated_.samples},
+      {"writes", writes_.size()},
+      {"partial_writes", partialWrites_},
+      {"limiter_violations", violations_},
+      {"offset_violations", offsetViolations_},
+      {"rate_violations", rateViolations_},
+      {"first_violation", firstViolation_},
+      {"rms_uncompensated_um", rmsUm(uncompensated_.sumSqNorm, uncompensated_.samples)},
+      {"rms_compensated_um", rmsUm(compensated_.sumSqNorm, compensated_.samples)},
+      {"max_uncompensated_um", uncompensated_.maxNorm * 1000.0},
+      {"max_compensated_um", compensated_.maxNorm * 1000.0},
+      {"axes", axes},
+      {"applied_offset_mm", applied_},
+      {"sessions", sessions_},
+      {"requests", requests_},
+      {"requests_unanswered", unanswered_},
+      {"exceptions_sent", exceptionsSent_},
+      {"watchdog_trips", watchdogTrips_},
+      {"position_semantics",
+       options_.semantics == config::PositionSemantics::Actual ? "actual" : "commanded"},
+  };
+}
+
+}  // namespace volcomp::sim

@@ -1,0 +1,228 @@
+// volcomp-sim: the simulated machine and controller (daemon spec section 6). See
+// docs/modbus.md for usage; the report is one JSON line on stdout at the end.
+#include <poll.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "volcomp/config/config_error.hpp"
+#include "volcomp/sim/commands.hpp"
+#include "volcomp/sim/machine.hpp"
+#include "volcomp/sim/modbus_server.hpp"
+#include "volcomp/sim/sim_config.hpp"
+
+namespace {
+
+std::atomic<bool> gStop{false};
+
+extern "C" void onSignal(int) {
+  gStop = true;
+}
+
+void installSignalHandlers() {
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGINT, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+}
+
+/// Non-blocking line reader for run-time commands on stdin.
+class StdinCommands {
+ public:
+  /// Returns complete lines available now (never blocks).
+  std::vector<std::string> poll() {
+    std::vector<std::string> lines;
+    if (eof_) return lines;
+    pollfd p{STDIN_FILENO, POLLIN, 0};
+    while (::poll(&p, 1, 0) > 0 && (p.revents & (POLLIN | POLLHUP)) != 0) {
+      char buf[512];
+      const ssize_t n = ::read(STDIN_FILENO, buf, sizeof buf);
+      if (n <= 0) {
+        eof_ = true;
+        break;
+      }
+      pending_.append(buf, static_cast<std::size_t>(n));
+    }
+    std::size_t nl;
+    while ((nl = pending_.find('\n')) != std::string::npos) {
+      lines.push_back(pending_.substr(0, nl));
+      pending_.erase(0, nl + 1);
+    }
+    return lines;
+  }
+
+ private:
+  std::string pending_;
+  bool eof_ = false;
+};
+
+void writeRecord(const std::string& file, const std::vector<volcomp::sim::WriteRecord>& writes) {
+  std::ofstream out(file);
+  if (!out) throw std::runtime_error(file + ": cannot write the record");
+  out << "t_s,offset_x_mm,offset_y_mm,offset_z_mm,status,heartbeat,partial,violation\n";
+  out << std::setprecision(17);
+  for (const auto& w : writes) {
+    out << w.timeS << ',' << w.offsetMm[0] << ',' << w.offsetMm[1] << ',' << w.offsetMm[2] << ','
+        << w.status << ',' << w.heartbeat << ',' << (w.partial ? 1 : 0) << ','
+        << (w.violation ? 1 : 0) << '\n';
+  }
+}
+
+bool pathInsideTravel(const volcomp::sim::Path& path, const volcomp::sim::Travel& travel,
+                      std::string& why) {
+  const auto b = path.bounds();
+  constexpr const char* axes = "XYZ";
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!travel[k]) continue;
+    const auto& t = *travel[k];
+    if (b[0][k] < t[0] - 1e-9 || b[1][k] > t[1] + 1e-9) {
+      why = std::string("the path leaves the travel of axis ") + axes[k] + " [" +
+            std::to_string(t[0]) + ", " + std::to_string(t[1]) + "]: it spans [" +
+            std::to_string(b[0][k]) + ", " + std::to_string(b[1][k]) + "]";
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"volcomp-sim: a simulated machine and controller for volcompd (Modbus TCP/RTU)"};
+  std::string configFile, recordFile, modelOverride, semanticsOverride;
+  std::optional<int> port;
+  bool rtu = false, tcp = false;
+  double durationS = 0.0;
+  std::vector<std::string> eventSpecs;
+  app.add_option("--config,-c", configFile, "simulator configuration (JSON)")->required();
+  app.add_option("--port", port, "TCP port on 127.0.0.1 (0 = a free port; default: the config's)")
+      ->check(CLI::Range(0, 65535));
+  auto* rtuFlag = app.add_flag("--rtu", rtu, "serve Modbus RTU on a new pseudo-terminal");
+  app.add_flag("--tcp", tcp, "serve Modbus TCP whatever the config's transport type")
+      ->excludes(rtuFlag);
+  app.add_option("--duration", durationS, "run this many seconds (0 = until SIGTERM/quit)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--record", recordFile, "write every write received as CSV to this file");
+  app.add_option("--event", eventSpecs,
+                 "scheduled fault T:COMMAND[:ARG...], e.g. 2:drop-link:1.5 (repeatable)");
+  app.add_option("--model", modelOverride, "true error model (overrides the config's)");
+  app.add_option("--semantics", semanticsOverride, "position semantics (overrides the config's)")
+      ->check(CLI::IsMember({"commanded", "actual"}));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+
+  using namespace volcomp;
+  std::optional<sim::Machine> machine;
+  std::vector<sim::ScheduledEvent> events;
+  sim::SimConfig cfg;
+  try {
+    for (const auto& spec : eventSpecs) events.push_back(sim::parseEvent(spec));
+    std::stable_sort(events.begin(), events.end(),
+                     [](const auto& a, const auto& b) { return a.atS < b.atS; });
+    cfg = sim::loadSimConfig(configFile);
+    if (!modelOverride.empty()) cfg.modelPath = modelOverride;
+    if (!semanticsOverride.empty()) {
+      cfg.machine.semantics = semanticsOverride == "actual" ? config::PositionSemantics::Actual
+                                                            : config::PositionSemantics::Commanded;
+    }
+    sim::Path path = sim::makePath(cfg.path);
+    sim::ErrorFunction trueError = [](const sim::Vec3&) { return sim::Vec3{}; };
+    if (cfg.modelPath) {
+      sim::Travel travel{};
+      trueError = sim::loadTrueError(*cfg.modelPath, &travel);
+      std::string why;
+      if (!pathInsideTravel(path, travel, why)) throw config::ConfigError(configFile, "path", why);
+    }
+    machine.emplace(std::move(path), std::move(trueError), cfg.machine);
+  } catch (const std::exception& e) {
+    std::cerr << "volcomp-sim: " << e.what() << '\n';
+    return 2;
+  }
+
+  installSignalHandlers();
+  const auto start = std::chrono::steady_clock::now();
+  auto now = [start] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  sim::ModbusServer server(cfg.transport.registers, cfg.transport.slaveId, *machine, now);
+  try {
+    const bool serveRtu =
+        rtu || (!tcp && std::holds_alternative<config::RtuLink>(cfg.transport.link));
+    if (serveRtu) {
+      server.startRtu();
+    } else {
+      std::uint16_t p = 0;
+      if (port) {
+        p = static_cast<std::uint16_t>(*port);
+      } else if (const auto* t = std::get_if<config::TcpLink>(&cfg.transport.link)) {
+        p = t->port;
+      }
+      server.startTcp(p);
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "volcomp-sim: " << e.what() << '\n';
+    return 1;
+  }
+  std::cout << server.listeningLine() << std::endl;
+
+  StdinCommands stdinCommands;
+  std::size_t nextEvent = 0;
+  const auto tick = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(cfg.tickS));
+  auto next = std::chrono::steady_clock::now();
+  bool running = true;
+  while (running && !gStop) {
+    const double t = now();
+    while (running && nextEvent < events.size() && events[nextEvent].atS <= t) {
+      std::cerr << "volcomp-sim: t=" << t << " s: event at " << events[nextEvent].atS << " s\n";
+      running = sim::applyCommand(*machine, t, events[nextEvent].command);
+      ++nextEvent;
+    }
+    for (const std::string& line : stdinCommands.poll()) {
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      try {
+        running = sim::applyCommand(*machine, t, sim::parseCommand(line)) && running;
+        std::cerr << "volcomp-sim: t=" << t << " s: " << line << '\n';
+      } catch (const std::invalid_argument& e) {
+        std::cerr << "volcomp-sim: " << e.what() << '\n';
+      }
+    }
+    machine->sample(t);
+    if (durationS > 0.0 && t >= durationS) break;
+    next += tick;
+    const auto late = std::chrono::steady_clock::now();
+    if (next < late) next = late;  // a late tick does not cause a burst of catch-up samples
+    std::this_thread::sleep_until(next);
+  }
+  server.stop();
+  const double end = now();
+  int status = 0;
+  if (!recordFile.empty()) {
+    try {
+      writeRecord(recordFile, machine->writes());
+    } catch (const std::exception& e) {
+      std::cerr << "volcomp-sim: " << e.what() << '\n';
+      status = 1;
+    }
+  }
+  std::cout << machine->report(end).dump() << std::endl;
+  return status;
+}

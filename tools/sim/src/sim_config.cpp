@@ -1,0 +1,102 @@
+#include "volcomp/sim/sim_config.hpp"
+
+#include <filesystem>
+
+#include "volcomp/config/json_reader.hpp"
+
+namespace volcomp::sim {
+namespace {
+
+using config::JsonReader;
+
+std::string resolve(const std::string& file, const std::string& relative) {
+  const std::filesystem::path p(relative);
+  if (p.is_absolute()) return relative;
+  return (std::filesystem::path(file).parent_path() / p).lexically_normal().string();
+}
+
+Vec3 vec3(const JsonReader& r) {
+  return r.fixedNumbers<3>();
+}
+
+PathSpec parsePath(const JsonReader& r, const std::string& file) {
+  PathSpec p;
+  p.type = r.at("type").oneOf({"raster", "circle", "points", "csv"});
+  p.feedMmMin = r.at("feed_mm_min").number(1e-3, 1e6);
+  if (p.type == "raster") {
+    r.allowOnly({"type", "feed_mm_min", "from", "to", "step_mm"});
+    p.from = vec3(r.at("from"));
+    p.to = vec3(r.at("to"));
+    p.stepMm = r.at("step_mm").number(1e-3, 1e6);
+  } else if (p.type == "circle") {
+    r.allowOnly({"type", "feed_mm_min", "center", "radius_mm"});
+    p.center = vec3(r.at("center"));
+    p.radiusMm = r.at("radius_mm").number(1e-3, 1e6);
+  } else if (p.type == "points") {
+    r.allowOnly({"type", "feed_mm_min", "points"});
+    for (const JsonReader& e : r.at("points").elements(1)) p.points.push_back(vec3(e));
+  } else {
+    r.allowOnly({"type", "feed_mm_min", "file"});
+    p.csvFile = resolve(file, r.at("file").string());
+  }
+  return p;
+}
+
+}  // namespace
+
+SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file) {
+  const JsonReader root(document, file);
+  root.allowOnly({"model", "position_semantics", "path", "limits", "heartbeat_timeout_ms",
+                  "watchdog_ramp_mm_s", "initial_offset_mm", "settle_ms", "tick_ms", "transport",
+                  "comment"});
+  SimConfig c;
+  c.file = file;
+  if (auto m = root.find("model")) c.modelPath = resolve(file, m->string());
+  c.machine.semantics = root.at("position_semantics").oneOf({"commanded", "actual"}) == "actual"
+                            ? config::PositionSemantics::Actual
+                            : config::PositionSemantics::Commanded;
+  c.path = parsePath(root.at("path"), file);
+  if (auto l = root.find("limits")) {
+    l->allowOnly({"max_offset_mm", "max_rate_mm_s", "rate_tolerance_ms"});
+    if (auto v = l->find("max_offset_mm")) c.machine.limits.maxOffsetMm = v->number(0.0, 1e6);
+    if (auto v = l->find("max_rate_mm_s")) c.machine.limits.maxRateMmS = v->number(0.0, 1e6);
+    if (auto v = l->find("rate_tolerance_ms")) {
+      c.machine.limits.rateToleranceS = v->number(0.0, 1e6) / 1000.0;
+    }
+  }
+  c.machine.heartbeatTimeoutS = root.numberOr("heartbeat_timeout_ms", 0.0) / 1000.0;
+  if (c.machine.heartbeatTimeoutS < 0.0) root.at("heartbeat_timeout_ms").failExpected(">= 0");
+  c.machine.watchdogRampMmS = root.numberOr("watchdog_ramp_mm_s", 1.0);
+  if (!(c.machine.watchdogRampMmS > 0.0)) root.at("watchdog_ramp_mm_s").failExpected("> 0");
+  if (auto v = root.find("initial_offset_mm")) c.machine.initialOffsetMm = vec3(*v);
+  c.machine.settleS = root.numberOr("settle_ms", 0.0) / 1000.0;
+  if (c.machine.settleS < 0.0) root.at("settle_ms").failExpected(">= 0");
+  if (auto v = root.find("tick_ms")) c.tickS = v->number(0.1, 1000.0) / 1000.0;
+  c.transport = config::parseModbusConfig(root.at("transport").json(), file, "transport");
+  c.machine.limits.quantumMm = offsetQuantumMm(c.transport.registers);
+  return c;
+}
+
+SimConfig loadSimConfig(const std::string& file) {
+  return parseSimConfig(config::readJsonFile(file), file);
+}
+
+Path makePath(const PathSpec& s) {
+  if (s.type == "raster") return Path::raster(s.from, s.to, s.stepMm, s.feedMmMin);
+  if (s.type == "circle") return Path::circle(s.center, s.radiusMm, s.feedMmMin);
+  if (s.type == "points") return Path::polyline(s.points, s.feedMmMin);
+  return Path::fromCsv(s.csvFile, s.feedMmMin);
+}
+
+Vec3 offsetQuantumMm(const config::ModbusRegisterMap& map) noexcept {
+  Vec3 q{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto& f = map.offset[k].format;
+    const bool isFloat =
+        f.type == config::RegisterType::Float32 || f.type == config::RegisterType::Float64;
+    q[k] = isFloat ? 0.0 : 1.0 / f.countsPerMm;
+  }
+  return q;
+}
+
+}  // namespace volcomp::sim

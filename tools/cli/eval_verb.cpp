@@ -1,5 +1,6 @@
 #include "eval_verb.hpp"
 
+#include <algorithm>
 #include <numbers>
 #include <ostream>
 #include <variant>
@@ -39,6 +40,22 @@ OrderedJson jsonMatrix(const Eigen::Matrix4d& m) {
 std::string triple(const Eigen::Vector3d& v) {
   return formatDouble(tidy(v.x())) + ", " + formatDouble(tidy(v.y())) + ", " +
          formatDouble(tidy(v.z()));
+}
+
+// Rows of shortest round-trip numbers, right-aligned in columns.
+std::string matrixText(const Eigen::Matrix4d& m) {
+  std::size_t width = 0;
+  for (int i = 0; i < 16; ++i) width = std::max(width, formatDouble(tidy(m(i / 4, i % 4))).size());
+  std::string text;
+  for (int r = 0; r < 4; ++r) {
+    text += "   ";
+    for (int c = 0; c < 4; ++c) {
+      const std::string v = formatDouble(tidy(m(r, c)));
+      text += std::string(width + 2 - v.size(), ' ') + v;
+    }
+    text += '\n';
+  }
+  return text;
 }
 
 void warnClamped(std::ostream& err, const model::MachineModelSpec& spec, std::uint8_t mask) {
@@ -87,15 +104,14 @@ int evalChain(const EvalOptions& options, const model::DhChainSpec& spec, std::o
   }
   std::string joined;
   for (double v : given) joined += (joined.empty() ? "" : ", ") + formatDouble(v);
-  const Eigen::IOFormat rows(Eigen::FullPrecision, 0, "  ", "\n", "            ", "");
   out << "chain          " << (spec.name.empty() ? std::string("(unnamed)") : spec.name) << ", "
       << spec.links.size() << " links, " << chain.jointCount() << " joints\n"
       << "joints         " << joined << "  (mm prismatic, deg revolute)\n"
       << "error          " << triple(r.errorMm) << "  mm\n"
       << "angular error  " << triple(r.angularErrorRad) << "  rad\n"
       << "T_nominal\n"
-      << r.tNominal.format(rows) << "\nT_actual\n"
-      << r.tActual.format(rows) << '\n';
+      << matrixText(r.tNominal) << "T_actual\n"
+      << matrixText(r.tActual);
   return kExitOk;
 }
 

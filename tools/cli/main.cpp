@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
   using namespace volcomp::cli;
   CLI::App app{
       "volcomp: volumetric error models of 3-axis machine tools (ISO 230-1 components, grids, "
-      "D-H chains). Units: mm and rad unless stated."};
+      "D-H chains). Units: mm and rad unless stated.",
+      "volcomp"};
   app.set_version_flag("--version", std::string("volcomp ") + VOLCOMP_VERSION);
   app.require_subcommand(1);
   app.footer(

@@ -1,0 +1,80 @@
+#pragma once
+/// The daemon configuration file (volcompd --config FILE): loop timing, limiter, safety timeouts,
+/// the model to load and the transport section, which each driver parses itself.
+///
+/// JSON shape (key paths as in error messages; required keys marked *):
+///   {
+///     "cycle_period_ms": 10,                 period of the cycle, ms, in [1, 1000]
+///   * "position_semantics": "commanded" | "actual",
+///   * "limiter": {"max_offset_mm": 0.5,      clamp band, mm, in (0, 100]
+///                 "max_rate_mm_s": 1.0,      slew limit, mm/s, in (0, 1000]
+///                 "max_accel_mm_s2": 0},     optional acceleration limit, mm/s^2, 0 = none
+///     "stale_timeout_ms": 500,               > cycle_period_ms
+///     "frozen_positions_are_stale": false,   also treat unchanged positions as stale input
+///     "travel_margin_mm": 1.0,               >= 0
+///     "direction_hysteresis_mm": 0.002,      >= 0
+///     "offset_readback": true,               the controller maps the applied offsets
+///     "plc_zero_after_ms": 500,              * when offset_readback is false (see below)
+///   * "model": "model.json",                 relative to this file's directory
+///     "reconnect": {"initial_ms": 100, "max_ms": 2000},
+///     "log_level": "info",                   trace|debug|info|warn|error|critical|off
+///   * "transport": {"type": "modbus-tcp" | "modbus-rtu" | "can", ...driver keys...}
+///   }
+/// `plc_zero_after_ms`: without a read-back the daemon only knows the applied offsets are zero
+/// once its heartbeat has been silent for this long (the PLC's heartbeat timeout plus the time
+/// its own ramp takes to remove the offsets); it writes nothing before that.
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "volcomp/config/config_error.hpp"
+
+namespace volcomp::config {
+
+enum class PositionSemantics {
+  /// The position registers hold the programmed position: evaluate the model at it.
+  Commanded,
+  /// The position registers include the applied offset: subtract it before evaluating.
+  Actual,
+};
+
+struct LimiterConfig {
+  double maxOffsetMm = 0.0;
+  double maxRateMmS = 0.0;
+  double maxAccelMmS2 = 0.0;  ///< 0 = no acceleration limit
+};
+
+struct ReconnectConfig {
+  double initialMs = 100.0;
+  double maxMs = 2000.0;
+};
+
+struct DaemonConfig {
+  std::string file;  ///< the configuration file (messages, relative paths)
+  double cyclePeriodMs = 10.0;
+  PositionSemantics positionSemantics = PositionSemantics::Commanded;
+  LimiterConfig limiter;
+  double staleTimeoutMs = 500.0;
+  bool frozenPositionsAreStale = false;
+  double travelMarginMm = 1.0;
+  double directionHysteresisMm = 0.002;
+  bool offsetReadback = true;
+  std::optional<double> plcZeroAfterMs;
+  std::string modelPath;  ///< resolved against the configuration file's directory
+  ReconnectConfig reconnect;
+  std::string logLevel = "info";
+  std::string transportType;  ///< "modbus-tcp", "modbus-rtu" or "can"
+  /// The whole "transport" object, for the driver's own parser (key paths start at "transport").
+  nlohmann::json transport;
+};
+
+/// Reads and validates a daemon configuration file. Throws ConfigError (file, key path, what was
+/// expected) on any problem, including a file that cannot be read or is not JSON.
+DaemonConfig loadDaemonConfig(const std::string& path);
+
+/// Same for an already parsed document; `file` is used in messages and to resolve "model".
+DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string& file);
+
+}  // namespace volcomp::config

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <ostream>
 #include <variant>
@@ -16,6 +17,14 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr int kPolynomialSamples = 1001;
+
+// A summary is read by people: 15 significant digits hide the last-bit noise of unit conversions
+// (0.0010835 deg, not 0.0010835000000000003).
+std::string formatDouble(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.15g", value + 0.0);
+  return buffer;
+}
 
 std::string range(double lo, double hi) {
   return "[" + formatDouble(lo) + ", " + formatDouble(hi) + "]";
@@ -66,7 +75,8 @@ void describeMotion(std::ostream& out, const model::MachineModelSpec& spec, int 
         peak = std::max(peak, std::abs(polynomialAt(p->coefficients, q)));
       }
       line += " over the travel " + range((*travel)[0], (*travel)[1]) + " mm, peak |value| " +
-              formatDouble(peak / factor) + " " + unit;
+              formatDouble(peak / factor) + " " + unit + " (sampled at " +
+              std::to_string(kPolynomialSamples) + " points)";
     } else {
       line += ", peak |value| unbounded (no travel given for this axis)";
     }

@@ -3,6 +3,7 @@
 /// elements, natural cubic spline; optionally bidirectional), polynomial.
 /// Values are in the model's internal units (mm or rad); positions are mm.
 
+#include <array>
 #include <variant>
 #include <vector>
 
@@ -58,15 +59,14 @@ class ErrorFunction {
   int kind_ = 0;  // 0 constant, 1 table, 2 polynomial
   double constant_ = 0.0;
   std::vector<double> polynomial_;
-  // Table data (used when kind_ == 1): positions, three curves (positive, negative, mean) and,
-  // for cubic, their second derivatives.
+  // Table data (used when kind_ == 1): positions and three curves (positive, negative, mean),
+  // each stored as per-interval cubic coefficients in the interval's local coordinate (see
+  // model/src/piecewise.hpp), so that every interpolation kind evaluates in one Horner step.
   std::vector<double> positions_;
   std::array<std::vector<double>, 3> curves_;
-  std::array<std::vector<double>, 3> secondDerivatives_;
-  Interpolation interpolation_ = Interpolation::Linear;
   bool bidirectional_ = false;
   bool uniform_ = false;
-  double invStep_ = 0.0;
+  bool zero_ = true;
 };
 
 }  // namespace volcomp::model

@@ -2,6 +2,7 @@
 /// Grid maps (spec section 6): a translational error component (EX, EY or EZ, mm) over 2 or 3 axes,
 /// bi- or trilinearly interpolated, positions clamped to the grid.
 
+#include <array>
 #include <vector>
 
 #include "volcomp/model/types.hpp"
@@ -31,6 +32,7 @@ class Grid {
 
  private:
   GridSpec spec_;
+  std::array<bool, 3> uniform_{};  // per axis of `over`: evenly spaced nodes, O(1) lookup
 };
 
 }  // namespace volcomp::model

@@ -19,8 +19,8 @@ enum class Direction : std::int8_t { Negative = -1, Unknown = 0, Positive = 1 };
 /// One direction per axis, indexed by Axis.
 using Directions = std::array<Direction, 3>;
 
-/// Kind of an error motion of one axis, in the order of ISO 230-1 names EXK, EYK, EZK, EAK, EBK, ECK:
-/// three translations (mm) along X, Y, Z and three rotations (rad) about X, Y, Z.
+/// Kind of an error motion of one axis, in the order of ISO 230-1 names EXK, EYK, EZK, EAK, EBK,
+/// ECK: three translations (mm) along X, Y, Z and three rotations (rad) about X, Y, Z.
 enum class MotionKind : std::uint8_t { EX = 0, EY = 1, EZ = 2, EA = 3, EB = 4, EC = 5 };
 
 /// Index of motion error `kind` of axis `axis` in an 18-element array: axis * 6 + kind.

@@ -1,0 +1,97 @@
+#pragma once
+/// The daemon around the loop: the periodic scheduler, service-manager notifications, state-change
+/// logging, stop and reload. Everything runs on one io_context thread except the reload's file
+/// loading and validation, which runs on a helper thread and hands its result back to the
+/// io_context, so that a slow or failing load never delays a cycle.
+///
+/// Notifications: READY=1 after the first good cycle (and after each reload), WATCHDOG=1 from the
+/// cycle itself at a quarter of the watchdog interval (a stuck cycle stops the pings),
+/// STATUS=<summary> at most once per second, STOPPING=1 on stop, RELOADING=1 before a reload.
+/// Logging happens on state changes, reloads and once per second for new overruns, never per
+/// cycle.
+
+#include <asio/io_context.hpp>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "volcomp/config/daemon_config.hpp"
+#include "volcomp/daemon/compensation_loop.hpp"
+#include "volcomp/daemon/compensation_model.hpp"
+#include "volcomp/daemon/notifier.hpp"
+#include "volcomp/daemon/ports.hpp"
+#include "volcomp/daemon/scheduler.hpp"
+
+namespace volcomp::daemon {
+
+/// A validated configuration with its model.
+struct LoadedConfiguration {
+  config::DaemonConfig config;
+  std::shared_ptr<CompensationModel> model;
+};
+
+/// Reads the daemon configuration and the model it names. Throws config::ConfigError or
+/// model::ModelError.
+LoadedConfiguration loadConfiguration(const std::string& configPath);
+
+class Daemon {
+ public:
+  /// Loads a configuration for a reload; throws on a bad file (the running one then stays).
+  using Loader = std::function<LoadedConfiguration()>;
+
+  Daemon(asio::io_context& io, ControllerPort& port, const Clock& clock, Notifier& notifier,
+         LoadedConfiguration initial, Loader reloadLoader, std::function<void()> onFinished);
+  ~Daemon();
+  Daemon(const Daemon&) = delete;
+  Daemon& operator=(const Daemon&) = delete;
+
+  void start();
+  /// SIGTERM/SIGINT: ramp out, write zero and status inactive, then finish (onFinished).
+  void requestStop();
+  /// SIGHUP: load and validate config and model off the io_context thread, then take them over
+  /// between cycles; a rejected file keeps everything as it was and sets RELOAD_FAILED.
+  void requestReload();
+
+  const CompensationLoop& loop() const noexcept { return loop_; }
+  const PeriodicScheduler& scheduler() const noexcept { return scheduler_; }
+  bool ready() const noexcept { return ready_; }
+  bool reloading() const noexcept { return reloading_; }
+  /// The message of the last rejected reload (empty after a successful one).
+  const std::string& reloadError() const noexcept { return reloadError_; }
+  /// The one-line summary sent as STATUS=.
+  std::string statusLine() const;
+
+ private:
+  bool cycle();
+  void logReport(const CycleReport& report);
+  void notifyPeriodic(Clock::time_point now);
+  void finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::string error);
+
+  asio::io_context& io_;
+  const Clock& clock_;
+  Notifier& notifier_;
+  config::DaemonConfig config_;
+  CompensationLoop loop_;
+  PeriodicScheduler scheduler_;
+  Loader reloadLoader_;
+  std::function<void()> onFinished_;
+  std::thread reloadThread_;
+
+  bool ready_ = false;
+  bool stopping_ = false;
+  bool reloading_ = false;
+  bool finished_ = false;
+  std::string reloadError_;
+  std::optional<std::chrono::microseconds> watchdog_;
+  Clock::time_point lastWatchdog_{};
+  Clock::time_point lastStatus_{};
+  std::uint64_t cyclesAtLastStatus_ = 0;
+  std::uint64_t overrunsAtLastStatus_ = 0;
+  double cycleRateHz_ = 0.0;
+  FaultCode lastLoggedFault_ = FaultCode::None;
+};
+
+}  // namespace volcomp::daemon

@@ -1,0 +1,161 @@
+// volcompd: the live compensation daemon. Reads the configuration, builds the driver named in it,
+// and runs the compensation loop until SIGTERM/SIGINT (ramp-out, exit 0); SIGHUP reloads.
+// Exit status: 0 after a clean stop or a good --check-config, 1 on a runtime failure, 2 on bad
+// arguments or a bad configuration/model file.
+
+#include <spdlog/pattern_formatter.h>
+#include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <asio/io_context.hpp>
+#include <asio/signal_set.hpp>
+#include <csignal>
+#include <cstdlib>
+#include <exception>
+#include <memory>
+#include <string>
+
+#include "volcomp/config/config_error.hpp"
+#include "volcomp/daemon/daemon.hpp"
+#include "volcomp/daemon/notifier.hpp"
+#include "volcomp/daemon/steady_clock.hpp"
+#include "volcomp/daemon/transport_registry.hpp"
+#include "volcomp/model/types.hpp"
+
+#ifdef VOLCOMPD_HAVE_MODBUS
+#include "volcomp/modbus/controller_port.hpp"
+#endif
+#ifdef VOLCOMPD_HAVE_CAN
+#include "volcomp/can/controller_port.hpp"
+#endif
+
+namespace {
+
+using volcomp::daemon::TransportRegistry;
+
+// journald reads a "<N>" syslog priority prefix on each stderr line (SyslogLevelPrefix=yes),
+// so under systemd the level travels as a priority instead of text.
+class SyslogPriorityFlag final : public spdlog::custom_flag_formatter {
+ public:
+  void format(const spdlog::details::log_msg& msg, const std::tm&,
+              spdlog::memory_buf_t& dest) override {
+    static constexpr const char* kPriority[] = {"<7>", "<7>", "<6>", "<4>", "<3>", "<2>", "<6>"};
+    const auto level = static_cast<std::size_t>(msg.level);
+    const char* p = level < std::size(kPriority) ? kPriority[level] : "<6>";
+    dest.append(p, p + 3);
+  }
+  std::unique_ptr<custom_flag_formatter> clone() const override {
+    return std::make_unique<SyslogPriorityFlag>();
+  }
+};
+
+void setUpLogging() {
+  auto logger = std::make_shared<spdlog::logger>("volcompd",
+                                                 std::make_shared<spdlog::sinks::stderr_sink_mt>());
+  auto formatter = std::make_unique<spdlog::pattern_formatter>();
+  if (std::getenv("JOURNAL_STREAM") != nullptr) {
+    // journald stamps time and unit itself.
+    formatter->add_flag<SyslogPriorityFlag>('*').set_pattern("%*%v");
+  } else {
+    formatter->set_pattern("%Y-%m-%d %H:%M:%S.%e volcompd %l: %v");
+  }
+  logger->set_formatter(std::move(formatter));
+  spdlog::set_default_logger(logger);
+}
+
+TransportRegistry builtInTransports() {
+  TransportRegistry registry;
+#ifdef VOLCOMPD_HAVE_MODBUS
+  const auto modbus = [](const nlohmann::json& section, const std::string& file) {
+    return volcomp::modbus::makeControllerPort(section, file, "transport");
+  };
+  registry.add("modbus-tcp", modbus);
+  registry.add("modbus-rtu", modbus);
+#endif
+#ifdef VOLCOMPD_HAVE_CAN
+  registry.add("can",
+               [](const nlohmann::json& section,
+                  const std::string& file) -> std::unique_ptr<volcomp::daemon::ControllerPort> {
+                 return volcomp::can::makeCanControllerPort(section, file, "transport");
+               });
+#endif
+  return registry;
+}
+
+int run(const std::string& configPath, bool checkOnly, bool verbose) {
+  volcomp::daemon::LoadedConfiguration loaded;
+  std::unique_ptr<volcomp::daemon::ControllerPort> port;
+  const TransportRegistry registry = builtInTransports();
+  try {
+    loaded = volcomp::daemon::loadConfiguration(configPath);
+    port = registry.create(loaded.config);
+  } catch (const volcomp::config::ConfigError& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  } catch (const volcomp::model::ModelError& e) {
+    spdlog::error("{}: model: {}", loaded.config.modelPath, e.what());
+    return 2;
+  }
+  spdlog::set_level(verbose ? spdlog::level::debug
+                            : spdlog::level::from_str(loaded.config.logLevel));
+  if (checkOnly) {
+    spdlog::info("{}: configuration, model '{}' and {} transport are valid", configPath,
+                 loaded.model->name(), loaded.config.transportType);
+    return 0;
+  }
+
+  asio::io_context io;
+  volcomp::daemon::SteadyClock clock;
+  volcomp::daemon::SystemdNotifier notifier;
+  asio::signal_set signals(io, SIGINT, SIGTERM, SIGHUP);
+  volcomp::daemon::Daemon daemon(
+      io, *port, clock, notifier, std::move(loaded),
+      [configPath] { return volcomp::daemon::loadConfiguration(configPath); },
+      [&] {
+        signals.cancel();
+        io.stop();
+      });
+
+  std::function<void(const std::error_code&, int)> onSignal = [&](const std::error_code& ec,
+                                                                  int signal) {
+    if (ec) return;
+    if (signal == SIGHUP) {
+      daemon.requestReload();
+    } else {
+      daemon.requestStop();
+    }
+    signals.async_wait(onSignal);
+  };
+  signals.async_wait(onSignal);
+  daemon.start();
+  io.run();
+  port->disconnect();
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  setUpLogging();
+  CLI::App app{"volcompd: live volumetric error compensation daemon"};
+  std::string configPath;
+  bool checkOnly = false;
+  bool verbose = false;
+  app.add_option("-c,--config", configPath, "daemon configuration file (JSON)")->required();
+  app.add_flag("--check-config", checkOnly,
+               "validate the configuration, the model and the transport section, then exit");
+  app.add_flag("-v,--verbose", verbose, "debug logging (overrides log_level)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    return run(configPath, checkOnly, verbose);
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
+    return 1;
+  }
+}

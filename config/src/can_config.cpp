@@ -56,12 +56,12 @@ CanSignalConfig readSignal(const JsonReader& r) {
   s.startBit = static_cast<unsigned>(r.at("start_bit").integer(0, 511));
   s.length = static_cast<unsigned>(r.at("length").integer(1, 64));
   if (auto order = r.find("byte_order"))
-    s.byteOrder =
-        order->oneOf({"intel", "motorola"}) == "intel" ? CanByteOrder::Intel : CanByteOrder::Motorola;
+    s.byteOrder = order->oneOf({"intel", "motorola"}) == "intel" ? CanByteOrder::Intel
+                                                                 : CanByteOrder::Motorola;
   if (auto type = r.find("type")) {
     const std::string t = type->oneOf({"unsigned", "signed", "float32", "float64"});
-    s.valueType = t == "unsigned" ? CanValueType::Unsigned
-                  : t == "signed" ? CanValueType::Signed
+    s.valueType = t == "unsigned"  ? CanValueType::Unsigned
+                  : t == "signed"  ? CanValueType::Signed
                   : t == "float32" ? CanValueType::Float32
                                    : CanValueType::Float64;
   }
@@ -90,8 +90,8 @@ CanSyncFrame readSync(const JsonReader& r, bool fd) {
     for (const JsonReader& byte : data->elements(0, maxCount))
       sync.data.push_back(static_cast<std::uint8_t>(byte.integer(0, 255)));
     const std::size_t n = sync.data.size();
-    const bool validFd = n <= 8 || n == 12 || n == 16 || n == 20 || n == 24 || n == 32 ||
-                         n == 48 || n == 64;
+    const bool validFd =
+        n <= 8 || n == 12 || n == 16 || n == 20 || n == 24 || n == 32 || n == 48 || n == 64;
     if (!validFd) data->fail("a CAN FD payload must be 0..8, 12, 16, 20, 24, 32, 48 or 64 bytes");
   }
   return sync;
@@ -115,7 +115,7 @@ CanConfig parseCanConfig(const nlohmann::json& section, const std::string& file,
   c.fd = root.booleanOr("fd", false);
   c.bitrateSwitch = root.booleanOr("bitrate_switch", true);
   c.trigger = root.at("trigger").oneOf({"broadcast", "sync"}) == "broadcast" ? CanTrigger::Broadcast
-                                                                              : CanTrigger::Sync;
+                                                                             : CanTrigger::Sync;
   if (auto dbc = root.find("dbc")) {
     const std::filesystem::path dbcFile = dbc->string();
     c.dbcPath = dbcFile.is_absolute()

@@ -1,0 +1,68 @@
+#pragma once
+/// One SocketCAN raw socket on an Asio io_context: opens and binds it to an interface, keeps one
+/// asynchronous receive pending (no thread of its own: frames are handled whenever the owner runs
+/// or polls the io_context), and sends frames without ever blocking.
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <system_error>
+
+#include <asio/io_context.hpp>
+
+#include "volcomp/can/frame.hpp"
+#include "volcomp/can/protocol.hpp"
+
+namespace volcomp::can {
+
+/// What a channel delivers. Called from the io_context; must not throw.
+class FrameReceiver {
+ public:
+  /// A well-formed data frame.
+  virtual void onFrame(const Frame& frame) noexcept = 0;
+  /// An error frame: `errorClass` holds the CAN_ERR_* class bits, `frame.data` the details.
+  virtual void onErrorFrame(std::uint32_t errorClass, const Frame& frame) noexcept = 0;
+  /// A frame that is not a valid classical or FD data frame (bad size or DLC, remote request).
+  virtual void onMalformed() noexcept = 0;
+  /// The socket failed (already mapped: network_down for interface loss). No further receives.
+  virtual void onReceiveError(std::error_code ec) noexcept = 0;
+
+ protected:
+  ~FrameReceiver() = default;
+};
+
+/// Maps a socket error to the codes the daemon understands: interface gone or down (ENETDOWN,
+/// ENODEV, ENXIO) -> std::errc::network_down; transmit queue full (ENOBUFS, EAGAIN) ->
+/// Errc::TxDropped; anything else unchanged.
+std::error_code mapSocketError(std::error_code ec) noexcept;
+
+class Channel {
+ public:
+  Channel(asio::io_context& io, FrameReceiver& receiver);
+  ~Channel();
+  Channel(const Channel&) = delete;
+  Channel& operator=(const Channel&) = delete;
+
+  /// Opens a CAN_RAW socket on `interfaceName` (which must exist and be up, else network_down),
+  /// with CAN FD frames when `fd`, the receive `filters` (all frames when empty) and the error
+  /// classes `errorMask` (CAN_ERR_*), and starts receiving.
+  std::error_code open(const std::string& interfaceName, bool fd,
+                       std::span<const can_filter> filters, can_err_mask_t errorMask) noexcept;
+  void close() noexcept;
+  bool isOpen() const noexcept { return socket_.is_open(); }
+
+  /// Sends one frame without blocking (see mapSocketError for the errors). `bitrateSwitch` sets
+  /// BRS on CAN FD frames. noexcept and allocation-free.
+  std::error_code send(const Frame& frame, bool bitrateSwitch = false) noexcept;
+
+ private:
+  void receive() noexcept;
+  void handle(std::size_t bytes) noexcept;
+
+  RawProtocol::socket socket_;
+  FrameReceiver& receiver_;
+  canfd_frame rx_{};
+  bool fd_ = false;
+};
+
+}  // namespace volcomp::can

@@ -1,0 +1,130 @@
+#include "volcomp/can/channel.hpp"
+
+#include <cerrno>
+#include <cstring>
+
+#include <net/if.h>
+#include <sys/ioctl.h>
+
+#include <asio/buffer.hpp>
+#include <asio/error.hpp>
+
+#include "volcomp/can/errors.hpp"
+
+namespace volcomp::can {
+
+std::error_code mapSocketError(std::error_code ec) noexcept {
+  if (!ec || ec.category() != std::system_category()) {
+    if (ec == asio::error::would_block) return Errc::TxDropped;
+    return ec;
+  }
+  switch (ec.value()) {
+    case ENETDOWN:
+    case ENODEV:
+    case ENXIO:
+      return std::make_error_code(std::errc::network_down);
+    case ENOBUFS:
+    case EAGAIN:
+      return Errc::TxDropped;
+    default:
+      return ec;
+  }
+}
+
+Channel::Channel(asio::io_context& io, FrameReceiver& receiver)
+    : socket_(io), receiver_(receiver) {}
+
+Channel::~Channel() {
+  close();
+}
+
+std::error_code Channel::open(const std::string& interfaceName, bool fd,
+                              std::span<const can_filter> filters,
+                              can_err_mask_t errorMask) noexcept {
+  close();
+  const unsigned index = if_nametoindex(interfaceName.c_str());
+  if (index == 0) return std::make_error_code(std::errc::network_down);
+  std::error_code ec;
+  socket_.open(RawProtocol{}, ec);
+  if (ec) return ec;
+  // Binding to an interface that is down succeeds but nothing would ever arrive: report the
+  // link as down so that the daemon keeps retrying with its backoff.
+  ifreq request{};
+  std::strncpy(request.ifr_name, interfaceName.c_str(), IFNAMSIZ - 1);
+  if (::ioctl(socket_.native_handle(), SIOCGIFFLAGS, &request) != 0 ||
+      (request.ifr_flags & IFF_UP) == 0) {
+    close();
+    return std::make_error_code(std::errc::network_down);
+  }
+  fd_ = fd;
+  if (fd) socket_.set_option(FdFramesOption(true), ec);
+  if (!ec && !filters.empty()) socket_.set_option(FilterOption(filters.data(), filters.size()), ec);
+  if (!ec) socket_.set_option(ErrorFilterOption(&errorMask, 1), ec);
+  if (!ec) socket_.bind(Endpoint(static_cast<int>(index)), ec);
+  if (!ec) socket_.non_blocking(true, ec);
+  if (ec) {
+    close();
+    return mapSocketError(ec);
+  }
+  receive();
+  return {};
+}
+
+void Channel::close() noexcept {
+  std::error_code ignored;
+  if (socket_.is_open()) socket_.close(ignored);
+}
+
+std::error_code Channel::send(const Frame& frame, bool bitrateSwitch) noexcept {
+  if (!socket_.is_open()) return std::make_error_code(std::errc::not_connected);
+  canfd_frame out{};
+  out.can_id =
+      frame.extended ? ((frame.id & CAN_EFF_MASK) | CAN_EFF_FLAG) : (frame.id & CAN_SFF_MASK);
+  out.len = frame.length;
+  std::memcpy(out.data, frame.data.data(), frame.length);
+  std::size_t size = CAN_MTU;
+  if (frame.fd) {
+    out.flags = static_cast<std::uint8_t>(CANFD_FDF | (bitrateSwitch ? CANFD_BRS : 0));
+    size = CANFD_MTU;
+  }
+  std::error_code ec;
+  const std::size_t sent = socket_.send(asio::buffer(&out, size), 0, ec);
+  if (ec) return mapSocketError(ec);
+  if (sent != size) return Errc::TxDropped;
+  return {};
+}
+
+void Channel::receive() noexcept {
+  socket_.async_receive(asio::buffer(&rx_, sizeof rx_),
+                        [this](const std::error_code& ec, std::size_t bytes) {
+                          if (ec == asio::error::operation_aborted) return;
+                          if (ec) {
+                            receiver_.onReceiveError(mapSocketError(ec));
+                            return;
+                          }
+                          handle(bytes);
+                          if (socket_.is_open()) receive();
+                        });
+}
+
+void Channel::handle(std::size_t bytes) noexcept {
+  Frame frame;
+  const canid_t id = rx_.can_id;
+  if (bytes == CAN_MTU) {
+    if (rx_.len > kClassicMaxLength) return receiver_.onMalformed();
+  } else if (bytes == CANFD_MTU && fd_) {
+    if (!isValidLength(rx_.len, true)) return receiver_.onMalformed();
+    frame.fd = true;
+  } else {
+    return receiver_.onMalformed();
+  }
+  frame.extended = (id & CAN_EFF_FLAG) != 0;
+  frame.id = frame.extended ? (id & CAN_EFF_MASK) : (id & CAN_SFF_MASK);
+  frame.length = rx_.len;
+  std::memcpy(frame.data.data(), rx_.data, rx_.len);
+  if ((id & CAN_ERR_FLAG) != 0) return receiver_.onErrorFrame(id & CAN_ERR_MASK, frame);
+  if ((id & CAN_RTR_FLAG) != 0) return receiver_.onMalformed();
+  receiver_.onFrame(frame);
+}
+
+}  // namespace volcomp::can

@@ -1,5 +1,6 @@
 #include "volcomp/config/daemon_config.hpp"
 
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 
@@ -8,12 +9,16 @@
 namespace volcomp::config {
 namespace {
 
+std::string shortNumber(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%g", v);
+  return buffer;
+}
+
 // A strictly positive number no larger than `max` (JsonReader::number takes closed ranges).
 double positiveNumber(const JsonReader& value, double max) {
   const double v = value.number();
-  if (!(v > 0.0) || v > max) {
-    value.failExpected("a number in (0, " + nlohmann::json(max).dump() + "]");
-  }
+  if (!(v > 0.0) || v > max) value.failExpected("a number in (0, " + shortNumber(max) + "]");
   return v;
 }
 
@@ -47,8 +52,8 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
   if (auto v = root.find("stale_timeout_ms")) {
     c.staleTimeoutMs = v->number(0.0, 60000.0);
     if (!(c.staleTimeoutMs > c.cyclePeriodMs)) {
-      v->failExpected("a timeout longer than cycle_period_ms (" +
-                      nlohmann::json(c.cyclePeriodMs).dump() + " ms)");
+      v->failExpected("a timeout longer than cycle_period_ms (" + shortNumber(c.cyclePeriodMs) +
+                      " ms)");
     }
   } else if (!(c.staleTimeoutMs > c.cyclePeriodMs)) {
     root.fail(

@@ -1,0 +1,199 @@
+#include "volcomp/sim/machine.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "volcomp/sim/commands.hpp"
+#include "volcomp/sim/path.hpp"
+
+namespace volcomp::sim {
+namespace {
+
+daemon::OffsetCommand offsets(double x, double y, double z, std::uint16_t heartbeat = 0) {
+  daemon::OffsetCommand c;
+  c.offsetMm = {x, y, z};
+  c.heartbeat = heartbeat;
+  return c;
+}
+
+Machine standing(const Vec3& at, MachineOptions opt = {}, ErrorFunction e = {}) {
+  if (!e) e = [](const Vec3&) { return Vec3{}; };
+  return Machine(Path::polyline({at}, 1000.0), std::move(e), opt);
+}
+
+TEST(SimPath, PolylineAtFeed) {
+  // 6000 mm/min = 100 mm/s along (0,0,0) -> (100,0,0) and back (closed): at 0.5 s x = 50, at
+  // 1.25 s we are 25 mm into the way back (x = 75), at 2.0 s back at the start.
+  const Path p = Path::polyline({{0, 0, 0}, {100, 0, 0}}, 6000.0);
+  EXPECT_DOUBLE_EQ(p.lengthMm(), 200.0);
+  EXPECT_NEAR(p.at(0.5)[0], 50.0, 1e-9);
+  EXPECT_NEAR(p.at(1.25)[0], 75.0, 1e-9);
+  EXPECT_NEAR(p.at(2.0)[0], 0.0, 1e-9);
+}
+
+TEST(SimPath, CircleStaysOnTheCircle) {
+  const Path p = Path::circle({100, 50, -20}, 30.0, 3000.0);
+  for (double t : {0.0, 0.3, 1.7, 5.55}) {
+    const Vec3 q = p.at(t);
+    EXPECT_NEAR(std::hypot(q[0] - 100, q[1] - 50), 30.0, 1e-9);
+    EXPECT_DOUBLE_EQ(q[2], -20.0);
+  }
+  // Quarter circle = 47.12 mm at 50 mm/s: 0.9425 s to reach (100, 80).
+  const Vec3 q = p.at(2 * M_PI * 30.0 / 4.0 / 50.0);
+  EXPECT_NEAR(q[0], 100.0, 1e-9);
+  EXPECT_NEAR(q[1], 80.0, 1e-9);
+}
+
+TEST(SimPath, RasterZigZagsInsideItsBox) {
+  const Path p = Path::raster({0, 0, -10}, {100, 20, -10}, 10.0, 6000.0);
+  // Lines y = 0, 10, 20 of 100 mm, two 10 mm steps, return diagonal from (100,20) to (0,0).
+  EXPECT_NEAR(p.lengthMm(), 300.0 + 20.0 + std::hypot(100.0, 20.0), 1e-9);
+  const auto b = p.bounds();
+  EXPECT_EQ(b[0], (Vec3{0, 0, -10}));
+  EXPECT_EQ(b[1], (Vec3{100, 20, -10}));
+  // After 1.05 s (105 mm): 100 mm along y = 0, then 5 mm up the step: (100, 5).
+  EXPECT_NEAR(p.at(1.05)[0], 100.0, 1e-9);
+  EXPECT_NEAR(p.at(1.05)[1], 5.0, 1e-9);
+}
+
+TEST(SimMachine, PositionSemantics) {
+  MachineOptions opt;
+  Machine commanded = standing({10, 20, 30}, opt);
+  opt.semantics = config::PositionSemantics::Actual;
+  Machine actual = standing({10, 20, 30}, opt);
+  for (Machine* m : {&commanded, &actual}) m->onWrite(0.01, offsets(0.1, -0.2, 0.3));
+  EXPECT_EQ(commanded.inputs(0.02).positionMm, (Vec3{10, 20, 30}));
+  const Vec3 a = actual.inputs(0.02).positionMm;
+  EXPECT_NEAR(a[0], 10.1, 1e-12);
+  EXPECT_NEAR(a[1], 19.8, 1e-12);
+  EXPECT_NEAR(a[2], 30.3, 1e-12);
+}
+
+TEST(SimMachine, ChecksEveryWriteAgainstTheLimits) {
+  MachineOptions opt;
+  opt.limits.maxOffsetMm = 0.05;
+  opt.limits.maxRateMmS = 1.0;
+  opt.limits.rateToleranceS = 0.001;
+  opt.limits.quantumMm = {1e-4, 1e-4, 1e-4};
+  Machine m = standing({0, 0, 0}, opt);
+  m.onSessionStart(0.0);
+  // 10 ms after the session start up to 1 mm/s * (0.010 + 0.001) + 2e-4 = 0.0112 mm is allowed.
+  m.onWrite(0.010, offsets(0.011, 0, 0));
+  // Another 0.012 mm in 10 ms: 0.012 > 0.0112 -> rate violation on X.
+  m.onWrite(0.020, offsets(0.023, 0, 0));
+  // Beyond max_offset (+ one count): 0.0503 > 0.0501 -> offset violation on Y (rate ok over 1 s).
+  m.onWrite(1.020, offsets(0.023, 0.0503, 0));
+  const nlohmann::json r = m.report(1.1);
+  EXPECT_EQ(r["writes"], 3);
+  EXPECT_EQ(r["limiter_violations"], 2);
+  EXPECT_EQ(r["rate_violations"], 1);
+  EXPECT_EQ(r["offset_violations"], 1);
+  EXPECT_EQ(r["axes"]["X"]["limiter_violations"], 1);
+  EXPECT_EQ(r["axes"]["Y"]["limiter_violations"], 1);
+  EXPECT_NE(r["first_violation"].get<std::string>().find("axis X"), std::string::npos);
+  const auto w = m.writes();
+  EXPECT_FALSE(w[0].violation);
+  EXPECT_TRUE(w[1].violation);
+  EXPECT_TRUE(w[2].violation);
+}
+
+TEST(SimMachine, FirstWriteAfterReconnectMustContinueFromTheAppliedOffset) {
+  MachineOptions opt;
+  opt.limits.maxRateMmS = 0.5;
+  opt.limits.rateToleranceS = 0.0;
+  opt.initialOffsetMm = {0.02, 0, 0};  // left applied by an earlier run
+  Machine m = standing({0, 0, 0}, opt);
+  m.onSessionStart(10.0);
+  // Jumping to zero 10 ms after connecting: 0.02 mm > 0.5 mm/s * 0.01 s = 0.005 mm.
+  m.onWrite(10.01, offsets(0.0, 0, 0));
+  EXPECT_EQ(m.report(10.1)["rate_violations"], 1);
+}
+
+TEST(SimMachine, ToolTipErrorWithAndWithoutCompensation) {
+  // True error E(q) = (0.010 + 1e-4 x, 0, 0) mm. At x = 100: E = 0.020 mm, uncompensated 20 um.
+  // With the exact offset o: x + o + E(x + o) = x -> o = -0.020 / 1.0001 = -0.019998 mm the
+  // compensated error is E(q + o) + o = 0. With o = -0.010 it is 0.020 - 1e-6 - 0.010 = 9.999 um.
+  ErrorFunction e = [](const Vec3& q) { return Vec3{0.010 + 1e-4 * q[0], 0, 0}; };
+  Machine m = standing({100, 0, 0}, {}, e);
+  m.sample(0.0);  // before the first write nothing is counted
+  EXPECT_EQ(m.report(0.0)["samples"], 0);
+  m.onWrite(0.001, offsets(-0.020 / 1.0001, 0, 0));
+  m.sample(0.002);
+  nlohmann::json r = m.report(0.002);
+  EXPECT_NEAR(r["rms_uncompensated_um"].get<double>(), 20.0, 1e-9);
+  EXPECT_NEAR(r["rms_compensated_um"].get<double>(), 0.0, 1e-9);
+  m.onWrite(0.003, offsets(-0.010, 0, 0));
+  m.sample(0.004);
+  r = m.report(0.004);
+  EXPECT_NEAR(r["max_compensated_um"].get<double>(), 9.999, 1e-9);
+  EXPECT_NEAR(r["axes"]["X"]["max_uncompensated_um"].get<double>(), 20.0, 1e-9);
+  // RMS over the two samples: sqrt((0^2 + 9.999^2) / 2).
+  EXPECT_NEAR(r["rms_compensated_um"].get<double>(), 9.999 / std::sqrt(2.0), 1e-9);
+  EXPECT_EQ(r["samples"], 2);
+}
+
+TEST(SimMachine, HeartbeatWatchdogRampsTheOffsetsAway) {
+  MachineOptions opt;
+  opt.heartbeatTimeoutS = 0.1;
+  opt.watchdogRampMmS = 1.0;
+  Machine m = standing({0, 0, 0}, opt);
+  m.sample(0.0);
+  m.onWrite(0.0, offsets(0.05, -0.05, 0, 1));
+  // Sampled every ms: the ramp starts at the first sample after 0.1 s and removes 1 um per ms.
+  for (int i = 1; i <= 120; ++i) m.sample(i * 0.001);
+  const Vec3 a = m.appliedOffsetMm();
+  EXPECT_NEAR(a[0], 0.05 - 0.020, 1.5e-3);
+  EXPECT_NEAR(a[1], -0.05 + 0.020, 1.5e-3);
+  EXPECT_EQ(m.report(0.12)["watchdog_trips"], 1);
+  for (int i = 121; i <= 200; ++i) m.sample(i * 0.001);
+  EXPECT_EQ(m.appliedOffsetMm(), (Vec3{0, 0, 0}));
+}
+
+TEST(SimMachine, FreezeHoldsTheRegistersHoldStopsTheMachine) {
+  Machine m(Path::polyline({{0, 0, 0}, {100, 0, 0}}, 6000.0), [](const Vec3&) { return Vec3{}; },
+            {});
+  m.sample(0.0);
+  EXPECT_NEAR(m.inputs(0.1).positionMm[0], 10.0, 1e-9);
+  m.freeze(0.1, 0.2);
+  EXPECT_NEAR(m.inputs(0.2).positionMm[0], 10.0, 1e-9) << "registers frozen";
+  EXPECT_NEAR(m.programmedPositionMm()[0], 20.0, 1e-9) << "the machine moves on";
+  EXPECT_NEAR(m.inputs(0.35).positionMm[0], 35.0, 1e-9) << "the freeze has ended";
+  m.hold(0.35, 0.1);
+  EXPECT_NEAR(m.inputs(0.4).positionMm[0], 35.0, 1e-9);
+  EXPECT_NEAR(m.inputs(0.44).positionMm[0], 35.0, 1e-9);
+  // The hold ends at 0.45 s: 0.05 s later the axis is 5 mm further.
+  EXPECT_NEAR(m.inputs(0.5).positionMm[0], 40.0, 1e-9) << "moving again since 0.45 s";
+}
+
+TEST(SimCommands, ParseAndApply) {
+  const ScheduledEvent e = parseEvent("2.5:drop-link:1.5");
+  EXPECT_DOUBLE_EQ(e.atS, 2.5);
+  EXPECT_EQ(e.command.kind, Command::Kind::DropLink);
+  EXPECT_DOUBLE_EQ(e.command.durationS, 1.5);
+  const Command ex = parseCommand("exception 4 2");
+  EXPECT_EQ(ex.kind, Command::Kind::Exception);
+  EXPECT_EQ(ex.exceptionCode, 4);
+  EXPECT_DOUBLE_EQ(ex.durationS, 2.0);
+  EXPECT_FALSE(parseCommand("enable off").on);
+  EXPECT_THROW(parseCommand("explode"), std::invalid_argument);
+  EXPECT_THROW(parseCommand("exception 12"), std::invalid_argument);
+  EXPECT_THROW(parseCommand("stall -1"), std::invalid_argument);
+  EXPECT_THROW(parseCommand("enable maybe"), std::invalid_argument);
+  EXPECT_THROW(parseEvent("drop-link"), std::invalid_argument);
+
+  Machine m = standing({0, 0, 0});
+  EXPECT_TRUE(applyCommand(m, 1.0, parseCommand("stall 0.5")));
+  EXPECT_TRUE(m.transportFault(1.2).stall);
+  EXPECT_FALSE(m.transportFault(1.6).stall);
+  EXPECT_TRUE(applyCommand(m, 1.0, parseCommand("exception 3")));
+  EXPECT_EQ(m.transportFault(100.0).exceptionCode, 3) << "no duration: until resume";
+  EXPECT_TRUE(applyCommand(m, 2.0, parseCommand("resume")));
+  EXPECT_EQ(m.transportFault(2.0).exceptionCode, 0);
+  EXPECT_TRUE(applyCommand(m, 2.0, parseCommand("homed off")));
+  EXPECT_FALSE(m.inputs(2.0).homed);
+  EXPECT_FALSE(applyCommand(m, 2.0, parseCommand("quit")));
+}
+
+}  // namespace
+}  // namespace volcomp::sim

@@ -1,6 +1,7 @@
 #include "volcomp/model/machine_model.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <utility>
@@ -25,12 +26,21 @@ std::shared_ptr<const EvalPlan> buildPlan(
     const std::array<Eigen::Vector3d, 3>& direction,
     const std::array<Eigen::Vector3d, 3>& directionMinusUnit) {
   auto plan = std::make_shared<EvalPlan>();
+  // Offsets into plan->data while it grows; turned into pointers once it is complete.
+  struct GroupOffsets {
+    int positions = 0;
+    std::array<int, 3> coefficients{};
+  };
+  std::vector<GroupOffsets> groupOffsets;
+  std::vector<int> polynomialOffsets;
+
   for (int k = 0; k < 3; ++k) {
     EvalPlan::AxisPlan& axis = plan->axes[k];
-    const Axis axisK = static_cast<Axis>(k);
-    axis.sign = topology.isWorkpieceSide(axisK) ? -1.0 : 1.0;
-    axis.direction = direction[k];
-    axis.directionMinusUnit = directionMinusUnit[k];
+    axis.sign = topology.isWorkpieceSide(static_cast<Axis>(k)) ? -1.0 : 1.0;
+    for (int i = 0; i < 3; ++i) {
+      axis.direction[i] = direction[k][i];
+      axis.directionMinusUnit[i] = directionMinusUnit[k][i];
+    }
     axis.lowerMm = -std::numeric_limits<double>::infinity();
     axis.upperMm = std::numeric_limits<double>::infinity();
     if (spec.travelMm[k]) {
@@ -40,7 +50,6 @@ std::shared_ptr<const EvalPlan> buildPlan(
 
     axis.groupBegin = static_cast<int>(plan->groups.size());
     axis.polynomialBegin = static_cast<int>(plan->polynomials.size());
-    // Tables of this axis, grouped by identical node positions (entries of a group contiguous).
     std::array<bool, 6> done{};
     for (int slot = 0; slot < 6; ++slot) {
       const ErrorFunctionSpec& fs = spec.motion[k * 6 + slot];
@@ -50,49 +59,74 @@ std::shared_ptr<const EvalPlan> buildPlan(
       } else if (const PolynomialSpec* poly = std::get_if<PolynomialSpec>(&fs)) {
         EvalPlan::Polynomial p;
         p.slot = slot;
-        p.begin = static_cast<int>(plan->data.size());
+        p.count = static_cast<int>(poly->coefficients.size());
+        polynomialOffsets.push_back(static_cast<int>(plan->data.size()));
         plan->data.insert(plan->data.end(), poly->coefficients.begin(), poly->coefficients.end());
-        p.end = static_cast<int>(plan->data.size());
         plan->polynomials.push_back(p);
         done[slot] = true;
       }
     }
+    // Tables over identical positions form one group.
     for (int slot = 0; slot < 6; ++slot) {
       if (done[slot]) continue;
       const std::vector<double>& positions =
           std::get<TableSpec>(spec.motion[k * 6 + slot]).positionsMm;
       EvalPlan::Group group;
-      group.count = static_cast<int>(positions.size());
-      group.uniform = detail::isUniform(positions);
-      group.first = positions.front();
-      group.last = positions.back();
-      group.invStep = static_cast<double>(positions.size() - 1) / (group.last - group.first);
-      group.positions = static_cast<int>(plan->data.size());
-      plan->data.insert(plan->data.end(), positions.begin(), positions.end());
-      group.entryBegin = static_cast<int>(plan->entries.size());
+      std::vector<std::array<std::vector<double>, 3>> curves;
+      bool bidirectional = false;
       for (int other = slot; other < 6; ++other) {
         if (done[other]) continue;
         const TableSpec& table = std::get<TableSpec>(spec.motion[k * 6 + other]);
         if (table.positionsMm != positions) continue;
         done[other] = true;
-        const std::array<std::vector<double>, 3> curves = detail::buildCurves(table);
-        EvalPlan::Entry entry;
-        entry.slot = other;
-        for (int c = 0; c < 3; ++c) {
-          if (c > 0 && curves[c] == curves[0]) {
-            entry.curve[c] = entry.curve[0];
-            continue;
-          }
-          entry.curve[c] = static_cast<int>(plan->data.size());
-          plan->data.insert(plan->data.end(), curves[c].begin(), curves[c].end());
-        }
-        plan->entries.push_back(entry);
+        group.slots[group.entryCount++] = other;
+        curves.push_back(detail::buildCurves(table));
+        bidirectional = bidirectional || !table.valuesNegative.empty();
       }
-      group.entryEnd = static_cast<int>(plan->entries.size());
+      group.full = group.entryCount == 6;  // slots were taken in increasing order
+      group.axis.count = static_cast<int>(positions.size());
+      group.axis.uniform = detail::isUniform(positions);
+      group.axis.first = positions.front();
+      group.axis.last = positions.back();
+      group.axis.invStep =
+          static_cast<double>(positions.size() - 1) / (group.axis.last - group.axis.first);
+      GroupOffsets offsets;
+      offsets.positions = static_cast<int>(plan->data.size());
+      plan->data.insert(plan->data.end(), positions.begin(), positions.end());
+      const std::size_t n = static_cast<std::size_t>(group.entryCount);
+      const std::size_t intervals = positions.size() - 1;
+      for (int c = 0; c < 3; ++c) {
+        if (c > 0 && !bidirectional) {
+          offsets.coefficients[c] = offsets.coefficients[0];
+          continue;
+        }
+        offsets.coefficients[c] = static_cast<int>(plan->data.size());
+        std::vector<double> block(intervals * 4 * n);
+        for (std::size_t e = 0; e < n; ++e) {
+          for (std::size_t i = 0; i < intervals; ++i) {
+            for (std::size_t p = 0; p < 4; ++p) {
+              block[(4 * i + p) * n + e] = curves[e][c][4 * i + p];
+            }
+          }
+        }
+        plan->data.insert(plan->data.end(), block.begin(), block.end());
+      }
+      groupOffsets.push_back(offsets);
       plan->groups.push_back(group);
     }
     axis.groupEnd = static_cast<int>(plan->groups.size());
+    axis.allTabulated = axis.groupEnd - axis.groupBegin == 1 && plan->groups.back().full;
     axis.polynomialEnd = static_cast<int>(plan->polynomials.size());
+  }
+  const double* data = plan->data.data();
+  for (std::size_t g = 0; g < plan->groups.size(); ++g) {
+    plan->groups[g].axis.positions = data + groupOffsets[g].positions;
+    for (int c = 0; c < 3; ++c) {
+      plan->groups[g].coefficients[c] = data + groupOffsets[g].coefficients[c];
+    }
+  }
+  for (std::size_t p = 0; p < plan->polynomials.size(); ++p) {
+    plan->polynomials[p].coefficients = data + polynomialOffsets[p];
   }
   for (const Axis a : topology.toolSideFromFrame()) {
     plan->toolChain[plan->toolCount++] = static_cast<int>(a);
@@ -103,16 +137,95 @@ std::shared_ptr<const EvalPlan> buildPlan(
   return plan;
 }
 
-// Per-carriage data of one evaluation: R_K - I and the error translation e_K.
-struct Carriages {
-  std::array<Eigen::Matrix3d, 3> rotationMinusIdentity;
+// sin and cos - 1 of the nine error angles (EA, EB, EC of X, Y, Z, at 3 k + 0, 1, 2), for the
+// position; the exact angular error adds their half-angle ones.
+struct AngleSet {
+  double x[9];  // the angles
+  double s[9];  // sin(x)
+  double m[9];  // cos(x) - 1
 };
 
-void computeCarriages(const MotionValues& v, Carriages& c) noexcept {
-  for (int k = 0; k < 3; ++k) {
-    const double* e = v.data() + 6 * k;
-    c.rotationMinusIdentity[k] = detail::rotationZYXMinusIdentity(e[3], e[4], e[5]);
+// The short series of detail::sinCosm1 for every lane, exact to double rounding when every
+// |x| < 1e-2 rad (the caller checks); written out so that the compiler can pair lanes in SIMD
+// registers.
+[[gnu::always_inline]] inline void seriesSinCosm1(const double* x, double* s, double* m,
+                                                  int n) noexcept {
+#pragma GCC unroll 9
+  for (int i = 0; i < n; ++i) {
+    const double x2 = x[i] * x[i];
+    s[i] = x[i] + x[i] * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040)));
+    m[i] = x2 * (-0.5 + x2 * (1.0 / 24 + x2 * (-1.0 / 720)));
   }
+}
+
+[[gnu::always_inline]] inline bool allSmall(const double* x, int n) noexcept {
+  bool small = true;
+#pragma GCC unroll 9
+  for (int i = 0; i < n; ++i) small &= std::abs(x[i]) < detail::kSmallAngleRad;
+  return small;
+}
+
+[[gnu::always_inline]] inline void computeAngles(const MotionValues& v, AngleSet& a) noexcept {
+#pragma GCC unroll 3
+  for (int k = 0; k < 3; ++k) {
+    a.x[3 * k] = v[6 * k + 3];
+    a.x[3 * k + 1] = v[6 * k + 4];
+    a.x[3 * k + 2] = v[6 * k + 5];
+  }
+  if (allSmall(a.x, 9)) {
+    seriesSinCosm1(a.x, a.s, a.m, 9);
+  } else {
+    for (int i = 0; i < 9; ++i) detail::sinCosm1(a.x[i], a.s[i], a.m[i]);
+  }
+}
+
+// sin(x/2) and cos(x/2) - 1 of the nine angles.
+void halfAngles(const AngleSet& a, double* sh, double* mh) noexcept {
+  double h[9];
+#pragma GCC unroll 9
+  for (int i = 0; i < 9; ++i) h[i] = 0.5 * a.x[i];
+  if (allSmall(h, 9)) {
+    seriesSinCosm1(h, sh, mh, 9);
+  } else {
+    for (int i = 0; i < 9; ++i) detail::sinCosm1(h[i], sh[i], mh[i]);
+  }
+}
+
+struct Vec {
+  double x, y, z;
+};
+
+// (R - I) u for R = Rz(c) Ry(b) Rx(a) of carriage k, as three elementary rotations applied in
+// turn, each adding its own small change (m u + s u' terms): full relative precision in 12
+// multiplications, instead of building and applying a matrix.
+[[gnu::always_inline]] inline Vec rotateDeviation(const AngleSet& t, int k, Vec u) noexcept {
+  const int i = 3 * k;
+  const double sa = t.s[i], sb = t.s[i + 1], sc = t.s[i + 2];
+  const double ma = t.m[i], mb = t.m[i + 1], mc = t.m[i + 2];
+  // Rx(a): y' = y + (m y - s z), z' = z + (s y + m z)
+  const double ay = ma * u.y - sa * u.z, az = sa * u.y + ma * u.z;
+  u.y += ay;
+  u.z += az;
+  // Ry(b): x' = x + (m x + s z), z' = z + (m z - s x)
+  const double bx = mb * u.x + sb * u.z, bz = mb * u.z - sb * u.x;
+  u.x += bx;
+  // Rz(c): x' = x + (m x - s y), y' = y + (s x + m y)
+  const double cx = mc * u.x - sc * u.y, cy = sc * u.x + mc * u.y;
+  return {bx + cx, ay + cy, az + bz};
+}
+
+// (R^T - I) u: R^T = Rx(-a) Ry(-b) Rz(-c), so Rz(-c) acts first.
+[[gnu::always_inline]] inline Vec inverseRotateDeviation(const AngleSet& t, int k, Vec u) noexcept {
+  const int i = 3 * k;
+  const double sa = t.s[i], sb = t.s[i + 1], sc = t.s[i + 2];
+  const double ma = t.m[i], mb = t.m[i + 1], mc = t.m[i + 2];
+  const double cx = mc * u.x + sc * u.y, cy = mc * u.y - sc * u.x;
+  u.x += cx;
+  u.y += cy;
+  const double bx = mb * u.x - sb * u.z, bz = sb * u.x + mb * u.z;
+  u.z += bz;
+  const double ay = ma * u.y + sa * u.z, az = ma * u.z - sa * u.y;
+  return {cx + bx, cy + ay, bz + az};
 }
 
 // E(q) without grids, composed in deviation form: every partial product is carried as its
@@ -124,51 +237,97 @@ void computeCarriages(const MotionValues& v, Carriages& c) noexcept {
 //   x - e + q d = (x0 + q e_K) + D,  D = dx - e + q (d - e_K),
 //   R^T (x0 + q e_K + D) = (x0 + q e_K) + [D + (R^T - I)(x0 + q e_K + D)].
 // The nominal result is q + t (and -w on both), so E is the final deviation.
-Eigen::Vector3d positionDeviation(const EvalPlan& plan, const Carriages& c,
-                                  const Eigen::Vector3d& q, const MotionValues& v,
-                                  const Eigen::Vector3d& tool) noexcept {
-  Eigen::Vector3d nominal = tool;
-  Eigen::Vector3d deviation = Eigen::Vector3d::Zero();
+[[gnu::always_inline]] inline Vec positionDeviation(const EvalPlan& plan, const AngleSet& angles,
+                                                    const Eigen::Vector3d& q, const MotionValues& v,
+                                                    const Eigen::Vector3d& tool) noexcept {
+  double nominal[3] = {tool.x(), tool.y(), tool.z()};
+  Vec d{0.0, 0.0, 0.0};
   for (int i = plan.toolCount; i-- > 0;) {
     const int k = plan.toolChain[i];
     const double* e = v.data() + 6 * k;
-    deviation += c.rotationMinusIdentity[k] * (nominal + deviation) +
-                 Eigen::Vector3d(e[0], e[1], e[2]) + q[k] * plan.axes[k].directionMinusUnit;
+    const double* dme = plan.axes[k].directionMinusUnit.data();
+    const Vec r =
+        rotateDeviation(angles, k, {nominal[0] + d.x, nominal[1] + d.y, nominal[2] + d.z});
+    d.x += r.x + e[0] + q[k] * dme[0];
+    d.y += r.y + e[1] + q[k] * dme[1];
+    d.z += r.z + e[2] + q[k] * dme[2];
     nominal[k] += q[k];
   }
   for (int i = 0; i < plan.workpieceCount; ++i) {
     const int k = plan.workpieceChain[i];
     const double* e = v.data() + 6 * k;
+    const double* dme = plan.axes[k].directionMinusUnit.data();
     nominal[k] += q[k];
-    deviation += q[k] * plan.axes[k].directionMinusUnit - Eigen::Vector3d(e[0], e[1], e[2]);
-    deviation += c.rotationMinusIdentity[k].transpose() * (nominal + deviation);
+    d.x += q[k] * dme[0] - e[0];
+    d.y += q[k] * dme[1] - e[1];
+    d.z += q[k] * dme[2] - e[2];
+    const Vec r =
+        inverseRotateDeviation(angles, k, {nominal[0] + d.x, nominal[1] + d.y, nominal[2] + d.z});
+    d.x += r.x;
+    d.y += r.y;
+    d.z += r.z;
   }
-  return deviation;
+  return d;
 }
 
-// rot(H_WT) = R_W1^T ... R_Wn^T R_T1 ... R_Tn.
-Eigen::Matrix3d composedRotation(const EvalPlan& plan, const Workspace& ws) noexcept {
-  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
-  if (plan.toolCount > 0) {
-    r = ws.rotation[plan.toolChain[plan.toolCount - 1]];
-    for (int i = plan.toolCount - 1; i-- > 0;) r = ws.rotation[plan.toolChain[i]] * r;
-  }
-  for (int i = 0; i < plan.workpieceCount; ++i) {
-    r = ws.rotation[plan.workpieceChain[i]].transpose() * r;
-  }
-  return r;
+struct Quat {
+  double w, x, y, z;
+};
+
+[[gnu::always_inline]] inline Quat multiply(const Quat& p, const Quat& q) noexcept {
+  return {
+      p.w * q.w - p.x * q.x - p.y * q.y - p.z * q.z, p.w * q.x + p.x * q.w + p.y * q.z - p.z * q.y,
+      p.w * q.y - p.x * q.z + p.y * q.w + p.z * q.x, p.w * q.z + p.x * q.y - p.y * q.x + p.z * q.w};
 }
 
-void addGrids(const MachineModel& model, const Eigen::Vector3d& q, Eigen::Vector3d& p) noexcept {
-  for (const Grid& grid : model.grids()) p[grid.component()] += grid.valueMm(q.data());
+// Unit quaternion of Rz(c) Ry(b) Rx(a) of carriage k from the half-angle sines and cosines.
+[[gnu::always_inline]] inline Quat carriageQuaternion(const double* sh, const double* mh,
+                                                      int k) noexcept {
+  const int i = 3 * k;
+  const double sa = sh[i], sb = sh[i + 1], sc = sh[i + 2];
+  const double ca = 1.0 + mh[i], cb = 1.0 + mh[i + 1], cc = 1.0 + mh[i + 2];
+  return {cc * cb * ca + sc * sb * sa, cc * cb * sa - sc * sb * ca, cc * sb * ca + sc * cb * sa,
+          sc * cb * ca - cc * sb * sa};
 }
 
-Eigen::Vector3d positionError(const MachineModel& model, const EvalPlan& plan, Carriages& c,
-                              const Eigen::Vector3d& q, const MotionValues& values,
-                              const Eigen::Vector3d& tool) noexcept {
-  computeCarriages(values, c);
-  Eigen::Vector3d error = positionDeviation(plan, c, q, values, tool);
-  addGrids(model, q, error);
+// Rotation vector of rot(H_WT) = R_W1^T ... R_Wn^T R_T1 ... R_Tn, composed as quaternions (the
+// same product order; a transpose is a conjugate) and taken through the quaternion log map,
+// which needs no acos near 0 and no special case at pi.
+Eigen::Vector3d angularError(const EvalPlan& plan, const AngleSet& angles) noexcept {
+  double sh[9], mh[9];
+  halfAngles(angles, sh, mh);
+  // Left to right: W1 (the last of the from-frame list) ... Wn, then T1 ... Tn.
+  Quat r{1.0, 0.0, 0.0, 0.0};
+  for (int i = plan.workpieceCount; i-- > 0;) {
+    const Quat c = carriageQuaternion(sh, mh, plan.workpieceChain[i]);
+    r = multiply(r, {c.w, -c.x, -c.y, -c.z});
+  }
+  for (int i = 0; i < plan.toolCount; ++i) {
+    r = multiply(r, carriageQuaternion(sh, mh, plan.toolChain[i]));
+  }
+  if (r.w < 0.0) r = {-r.w, -r.x, -r.y, -r.z};
+  const double s2 = r.x * r.x + r.y * r.y + r.z * r.z;
+  double f;
+  if (s2 < 1e-4) {
+    // angle = 2 asin(|v|) for w >= 0; 2 asin(s) / s = 2 (1 + s^2/6 + 3 s^4/40 + 5 s^6/112 +
+    // 35 s^8/1152 + ...), the omitted terms below 1e-19 relative for s < 1e-2.
+    f = 2.0 * (1.0 + s2 * (1.0 / 6 + s2 * (3.0 / 40 + s2 * (5.0 / 112 + s2 * (35.0 / 1152)))));
+  } else {
+    const double s = std::sqrt(s2);
+    f = 2.0 * std::atan2(s, r.w) / s;
+  }
+  return {f * r.x, f * r.y, f * r.z};
+}
+
+[[gnu::always_inline]] inline Eigen::Vector3d positionError(const MachineModel& model,
+                                                            const EvalPlan& plan, AngleSet& angles,
+                                                            const Eigen::Vector3d& q,
+                                                            const MotionValues& values,
+                                                            const Eigen::Vector3d& tool) noexcept {
+  computeAngles(values, angles);
+  const Vec d = positionDeviation(plan, angles, q, values, tool);
+  Eigen::Vector3d error(d.x, d.y, d.z);
+  for (const Grid& grid : model.grids()) error[grid.component()] += grid.valueMm(q.data());
   return error;
 }
 
@@ -227,7 +386,6 @@ const Eigen::Vector3d& MachineModel::axisDirection(Axis axis) const noexcept {
 std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qMm,
                             const Directions& directions, MotionValues& values) noexcept {
   const EvalPlan& plan = detail::PlanAccess::plan(model);
-  const double* data = plan.data.data();
   std::uint8_t clamped = 0;
   for (int k = 0; k < 3; ++k) {
     const EvalPlan::AxisPlan& axis = plan.axes[k];
@@ -240,27 +398,31 @@ std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qM
       clamped = static_cast<std::uint8_t>(clamped | (1u << k));
     }
     double* out = values.data() + 6 * k;
-    for (int s = 0; s < 6; ++s) out[s] = axis.constants[s];
+    if (!axis.allTabulated) std::memcpy(out, axis.constants.data(), sizeof axis.constants);
     const int curve = detail::curveIndex(directions[k]);
     for (int g = axis.groupBegin; g < axis.groupEnd; ++g) {
       const EvalPlan::Group& group = plan.groups[g];
-      detail::TableAxis lookup;
-      lookup.positions = data + group.positions;
-      lookup.count = group.count;
-      lookup.uniform = group.uniform;
-      lookup.first = group.first;
-      lookup.last = group.last;
-      lookup.invStep = group.invStep;
-      const detail::TableLocation at = lookup.locate(q);
-      for (int e = group.entryBegin; e < group.entryEnd; ++e) {
-        const EvalPlan::Entry& entry = plan.entries[e];
-        out[entry.slot] = detail::evaluateCubic(data + entry.curve[curve], at);
+      const detail::TableLocation at = group.axis.locate(q);
+      const double t = at.t;
+      const int n = group.entryCount;
+      const double* c = group.coefficients[curve] + 4 * n * at.index;
+      if (group.full) {
+        // The common case (every component of the axis tabulated over the same positions): six
+        // contiguous coefficients per power, a fixed-length loop the compiler can vectorise.
+#pragma GCC unroll 6
+        for (int e = 0; e < 6; ++e) {
+          out[e] = c[e] + t * (c[6 + e] + t * (c[12 + e] + t * c[18 + e]));
+        }
+      } else {
+        for (int e = 0; e < n; ++e) {
+          out[group.slots[e]] = c[e] + t * (c[n + e] + t * (c[2 * n + e] + t * c[3 * n + e]));
+        }
       }
     }
     for (int p = axis.polynomialBegin; p < axis.polynomialEnd; ++p) {
       const EvalPlan::Polynomial& poly = plan.polynomials[p];
       double sum = 0.0;
-      for (int i = poly.end; i-- > poly.begin;) sum = sum * q + data[i];
+      for (int i = poly.count; i-- > 0;) sum = sum * q + poly.coefficients[i];
       out[poly.slot] = sum;
     }
   }
@@ -270,26 +432,20 @@ std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qM
 PointError composeError(const MachineModel& model, Workspace& ws, const Eigen::Vector3d& qMm,
                         const MotionValues& values, const Eigen::Vector3d& toolMm,
                         EvalMode mode) noexcept {
+  (void)ws;  // everything fits in registers and on the stack
   const EvalPlan& plan = detail::PlanAccess::plan(model);
-  Carriages c;
+  AngleSet angles;
   PointError result;
-  result.errorMm = positionError(model, plan, c, qMm, values, toolMm);
+  result.errorMm = positionError(model, plan, angles, qMm, values, toolMm);
   if (mode == EvalMode::Exact) {
-    for (int k = 0; k < 3; ++k) {
-      const double* e = values.data() + 6 * k;
-      ws.rotation[k] = c.rotationMinusIdentity[k] + Eigen::Matrix3d::Identity();
-      ws.translationMm[k] =
-          Eigen::Vector3d(e[0], e[1], e[2]) + (plan.axes[k].sign * qMm[k]) * plan.axes[k].direction;
-    }
-    result.angularErrorRad = rotationVector(composedRotation(plan, ws));
+    result.angularErrorRad = angularError(plan, angles);
   } else {
     // First order the small rotations simply add: tool side +w, workpiece side -w.
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) {
-      const double* e = values.data() + 6 * k;
-      sum += plan.axes[k].sign * Eigen::Vector3d(e[3], e[4], e[5]);
-    }
-    result.angularErrorRad = sum;
+    const double* v = values.data();
+    const double sx = plan.axes[0].sign, sy = plan.axes[1].sign, sz = plan.axes[2].sign;
+    result.angularErrorRad =
+        Eigen::Vector3d(sx * v[3] + sy * v[9] + sz * v[15], sx * v[4] + sy * v[10] + sz * v[16],
+                        sx * v[5] + sy * v[11] + sz * v[17]);
   }
   return result;
 }
@@ -314,9 +470,9 @@ OffsetSolution solveOffset(const MachineModel& model, Workspace& ws, const Eigen
   const Eigen::Vector3d& tool = model.toolMm();
   OffsetSolution solution;
   // Both modes compose the position the same way (see EvalMode), so options.mode changes nothing.
-  Carriages c;
+  AngleSet angles;
   std::uint8_t clamped = evaluateMotion(model, qMm, directions, ws.motion);
-  Eigen::Vector3d offset = -positionError(model, plan, c, qMm, ws.motion, tool);
+  Eigen::Vector3d offset = -positionError(model, plan, angles, qMm, ws.motion, tool);
   double residualNorm = std::numeric_limits<double>::infinity();
   int iteration = 0;
   while (iteration < options.maxIterations) {
@@ -325,7 +481,7 @@ OffsetSolution solveOffset(const MachineModel& model, Workspace& ws, const Eigen
     clamped = evaluateMotion(model, commanded, directions, ws.motion);
     // p(q + o) - p0(q) = E(q + o) + o, formed without subtracting two large positions.
     const Eigen::Vector3d residual =
-        positionError(model, plan, c, commanded, ws.motion, tool) + offset;
+        positionError(model, plan, angles, commanded, ws.motion, tool) + offset;
     residualNorm = residual.norm();
     if (!std::isfinite(residualNorm)) break;
     if (residualNorm < options.toleranceMm) {

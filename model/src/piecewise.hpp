@@ -78,14 +78,8 @@ std::array<std::vector<double>, 3> buildCurves(const TableSpec& table);
 
 /// Curve index for a direction: 0 Positive, 1 Negative, 2 Unknown (mean).
 inline int curveIndex(Direction direction) noexcept {
-  switch (direction) {
-    case Direction::Positive:
-      return 0;
-    case Direction::Negative:
-      return 1;
-    default:
-      return 2;
-  }
+  static constexpr int kIndex[3] = {1, 2, 0};  // Negative, Unknown, Positive
+  return kIndex[static_cast<int>(direction) + 1];
 }
 
 }  // namespace volcomp::model::detail

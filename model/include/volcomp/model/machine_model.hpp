@@ -112,9 +112,10 @@ class MachineModel {
   friend struct detail::PlanAccess;
 };
 
-/// Preallocated scratch space for evaluations (one per thread). After an Exact evaluate() or
-/// composeError() `rotation` and `translationMm` hold each carriage's error rotation and
-/// translation; FirstOrder evaluation and solveOffset() leave them unspecified.
+/// Preallocated scratch space for evaluations (one per thread). evaluate() and solveOffset() leave
+/// the component values of the last evaluated point in `motion`; `rotation` and `translationMm`
+/// are reserved scratch whose contents are unspecified (the composition keeps its intermediate
+/// values in registers).
 struct Workspace {
   MotionValues motion{};
   std::array<Eigen::Matrix3d, 3> rotation;       ///< error rotation of each axis' carriage

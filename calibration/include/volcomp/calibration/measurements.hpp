@@ -1,0 +1,46 @@
+#pragma once
+/// Calibration measurements from CSV. A header line names the columns (any order):
+///   x,y,z        commanded position (mm)                               required
+///   ex,ey,ez     measured volumetric error, actual - nominal (mm)       required
+///   tx,ty,tz     tool offset of this point (mm), overrides the model's  optional (all three)
+///   ea,eb,ec     measured angular error, rotation vector (rad)          optional (all three)
+///   weight       relative weight (> 0) of the point, 1 by default       optional
+///   q1..q9       joint values of a D-H chain (mm, revolute in deg)      optional, D-H chains only
+/// For a D-H chain with 3 joints x,y,z are the joint values when no q columns are given.
+/// Empty lines and lines starting with '#' are skipped. Every error names the file, the line and
+/// the column (throws config::ConfigError with key path "line N" or "line N, column NAME").
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace volcomp::calibration {
+
+struct Measurement {
+  Eigen::Vector3d qMm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d errorMm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d toolMm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angularErrorRad = Eigen::Vector3d::Zero();
+  /// q1..qn as read (mm, deg); empty when the file has no q columns.
+  std::vector<double> joints;
+  double weight = 1.0;
+  /// Line number in the file (1-based), for messages.
+  int line = 0;
+};
+
+struct MeasurementSet {
+  std::string file;
+  std::vector<Measurement> points;
+  bool hasTool = false;
+  bool hasAngles = false;
+  int jointColumns = 0;
+};
+
+/// Reads a measurement CSV; throws config::ConfigError naming the file, line and column.
+MeasurementSet readMeasurementsCsv(const std::string& path);
+/// Same from a stream; `file` is used in messages.
+MeasurementSet parseMeasurementsCsv(std::istream& input, const std::string& file);
+
+}  // namespace volcomp::calibration

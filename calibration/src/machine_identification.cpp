@@ -1,0 +1,642 @@
+// Identification of the components of a 3-axis model (see identification.hpp).
+//
+// Speed matters here (21 components, ~150 parameters, thousands of points), so the Jacobian is
+// built from the sensitivities of the exact model to its 18 motion values at each point (finite
+// differences of composeError, exact for the translations, central for the angles) times the
+// basis functions of each identified component. Location errors are mapped to motion
+// translations: the carriage of axis K sits at +-q_K d_K + (EXK, EYK, EZK), so changing d_K is
+// exactly the same as adding +-q_K (d_K(new) - d_K(template)) to its translation, which avoids
+// rebuilding the model for every parameter change.
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "instrument_frame.hpp"
+#include "machine_identification.hpp"
+#include "volcomp/model/so3.hpp"
+
+namespace volcomp::calibration::detail {
+namespace {
+
+using config::ConfigError;
+
+constexpr double kTranslationStepMm = 1e-3;
+constexpr double kRotationStepRad = 1e-6;
+constexpr double kFrameStep = 1e-7;
+
+std::string powerUnit(const std::string& unit, int power) {
+  if (power == 0) return unit;
+  if (power == 1) return unit + "/mm";
+  return unit + "/mm^" + std::to_string(power);
+}
+
+double binomial(int n, int k) {
+  double result = 1.0;
+  for (int i = 1; i <= k; ++i) result = result * (n - k + i) / i;
+  return result;
+}
+
+}  // namespace
+
+MachineIdentification::MachineIdentification(const config::ModelDocument& document,
+                                             const MeasurementSet& measurements,
+                                             const IdentificationOptions& options)
+    : document_(document),
+      template_(std::get<model::MachineModelSpec>(document.spec)),
+      options_(options),
+      hasAngles_(measurements.hasAngles) {
+  const std::string& file = document.file;
+  if (measurements.jointColumns > 0) {
+    throw ConfigError(measurements.file, "line 1",
+                      "joint columns q1..qN are for D-H chains; this template is a 3-axis model");
+  }
+  const config::ErrorUnits& units = document.units;
+  std::map<std::string, int> motionByName, locationByName;
+  for (int i = 0; i < 18; ++i) motionByName[model::motionName(i)] = i;
+  for (int i = 0; i < 9; ++i) locationByName[model::locationName(i)] = i;
+
+  model::MachineModelSpec base = template_;
+  int parameter = 0;
+  for (const auto& [keyPath, block] : document.identify) {
+    const std::string prefix = "components.";
+    if (keyPath.rfind(prefix, 0) != 0) {
+      throw ConfigError(file, keyPath, "identify is supported for components only here");
+    }
+    const std::string name = keyPath.substr(prefix.size());
+    const std::string identifyPath = keyPath + ".identify";
+    const IdentifySpec spec = parseIdentify(block, file, identifyPath);
+    if (auto location = locationByName.find(name); location != locationByName.end()) {
+      if (spec.basis != IdentifySpec::Basis::Constant) {
+        throw ConfigError(file, identifyPath,
+                          "a location error is a constant: expected \"constant\"");
+      }
+      LocationParameter lp;
+      lp.index = location->second;
+      lp.parameter = parameter++;
+      lp.start = template_.locationRad[static_cast<std::size_t>(lp.index)];
+      base.locationRad[static_cast<std::size_t>(lp.index)] = 0.0;
+      locations_.push_back(lp);
+      info_.push_back({name, keyPath, units.angle, 1.0 / units.angleToRad, false});
+      continue;
+    }
+    auto motion = motionByName.find(name);
+    if (motion == motionByName.end()) {
+      throw ConfigError(file, keyPath, "unknown component");
+    }
+    Component component;
+    component.motion = motion->second;
+    component.axis = motion->second / 6;
+    component.spec = spec;
+    component.first = parameter;
+    const bool angle = motion->second % 6 >= 3;
+    const std::string unit = angle ? units.angle : units.length;
+    const double toDisplay = angle ? 1.0 / units.angleToRad : 1.0 / units.lengthToMm;
+    switch (spec.basis) {
+      case IdentifySpec::Basis::Constant:
+        component.count = 1;
+        info_.push_back({name, keyPath, unit, toDisplay, false});
+        break;
+      case IdentifySpec::Basis::Polynomial: {
+        component.count = spec.degree + 1 - spec.minDegree;
+        for (int k = spec.minDegree; k <= spec.degree; ++k) {
+          info_.push_back({name + " c" + std::to_string(k), keyPath, powerUnit(unit, k),
+                           toDisplay, false});
+        }
+        break;
+      }
+      case IdentifySpec::Basis::Table: {
+        component.count = static_cast<int>(spec.positions.size());
+        for (std::size_t node = 0; node < spec.positions.size(); ++node) {
+          // One basis function per node: the table through the unit vector, interpolated exactly
+          // as the model will interpolate the identified table.
+          model::TableSpec unitTable;
+          unitTable.positionsMm = spec.positions;
+          unitTable.values.assign(spec.positions.size(), 0.0);
+          unitTable.values[node] = 1.0;
+          unitTable.interpolation = spec.interpolation;
+          try {
+            component.nodeBasis.emplace_back(unitTable);
+          } catch (const model::ModelError& e) {
+            throw ConfigError(file, identifyPath, e.what());
+          }
+          std::ostringstream label;
+          label << name << "[" << spec.positions[node] << "]";
+          info_.push_back({label.str(), keyPath, unit, toDisplay, false});
+        }
+        break;
+      }
+    }
+    parameter += component.count;
+    component.start = startValues(component, template_.motion[static_cast<std::size_t>(
+                                                  component.motion)],
+                                  file, keyPath + ".start");
+    base.motion[static_cast<std::size_t>(component.motion)] = 0.0;
+    components_.push_back(std::move(component));
+  }
+  if (options.instrumentFrame) {
+    frameFirst_ = parameter;
+    parameter += 6;
+    appendFrameInfo(info_, units.length, units.lengthToMm, units.angle, units.angleToRad);
+  }
+  parameterCount_ = parameter;
+  for (const Component& component : components_) {
+    if (component.spec.smoothness > 0.0 && component.count >= 3) {
+      priorRows_ += component.count - 2;
+    }
+  }
+
+  try {
+    model_.emplace(base);
+  } catch (const model::ModelError& e) {
+    throw ConfigError(file, "", std::string("invalid template model: ") + e.what());
+  }
+  workspace_ = std::make_unique<model::Workspace>();
+
+  // Which motion values need sensitivities: identified components, and the translations of axes
+  // whose location errors are identified.
+  std::set<int> needed;
+  for (const Component& component : components_) needed.insert(component.motion);
+  for (const LocationParameter& location : locations_) {
+    const int axis = location.index / 3;
+    for (int t = 0; t < 3; ++t) needed.insert(axis * 6 + t);
+  }
+  needed_.assign(needed.begin(), needed.end());
+
+  // Per point: template motion values, the nominal point, the tool and the basis values.
+  const auto& topology = model_->topology();
+  for (int k = 0; k < 3; ++k) {
+    axisSign_[static_cast<std::size_t>(k)] =
+        topology.isWorkpieceSide(static_cast<model::Axis>(k)) ? -1.0 : 1.0;
+    baseDirection_[static_cast<std::size_t>(k)] = model_->axisDirection(static_cast<model::Axis>(k));
+  }
+  int basisWidth = 0;
+  for (const Component& component : components_) basisWidth += component.count;
+  basisWidth_ = basisWidth;
+  points_.reserve(measurements.points.size());
+  basis_.resize(measurements.points.size() * static_cast<std::size_t>(basisWidth));
+  for (std::size_t i = 0; i < measurements.points.size(); ++i) {
+    const Measurement& m = measurements.points[i];
+    Point point;
+    point.qMm = m.qMm;
+    point.toolMm = measurements.hasTool ? m.toolMm : template_.toolMm;
+    point.nominalMm = m.qMm + point.toolMm - template_.workpieceMm;
+    point.measuredMm = m.errorMm;
+    point.measuredAngleRad = m.angularErrorRad;
+    point.sqrtWeight = std::sqrt(m.weight);
+    point.weight = m.weight;
+    model::evaluateMotion(*model_, m.qMm, model::Directions{}, point.baseMotion);
+    double* row = basis_.data() + i * static_cast<std::size_t>(basisWidth);
+    int column = 0;
+    for (const Component& component : components_) {
+      double q = m.qMm[component.axis];
+      if (const auto& travel = template_.travelMm[static_cast<std::size_t>(component.axis)]) {
+        q = std::clamp(q, (*travel)[0], (*travel)[1]);
+      }
+      evaluateBasis(component, q, row + column);
+      column += component.count;
+    }
+    points_.push_back(point);
+  }
+}
+
+IdentifySpec MachineIdentification::parseIdentify(const nlohmann::json& block,
+                                                  const std::string& file,
+                                                  const std::string& path) {
+  IdentifySpec spec;
+  const std::string expected =
+      "\"constant\", {\"basis\": \"polynomial\", \"degree\": N} or {\"basis\": \"table\", "
+      "\"positions\": [...], \"interpolation\": \"linear\"|\"cubic\"}";
+  if (block.is_string()) {
+    if (block.get<std::string>() != "constant") {
+      throw ConfigError(file, path, "expected " + expected);
+    }
+    return spec;
+  }
+  if (!block.is_object() || !block.contains("basis") || !block.at("basis").is_string()) {
+    throw ConfigError(file, path, "expected " + expected);
+  }
+  const std::string basis = block.at("basis").get<std::string>();
+  const auto allowOnly = [&](std::initializer_list<const char*> keys) {
+    for (const auto& [key, value] : block.items()) {
+      bool known = false;
+      for (const char* k : keys) known = known || key == k;
+      if (!known) throw ConfigError(file, path + "." + key, "unknown key for basis " + basis);
+    }
+  };
+  const auto number = [&](const char* key) {
+    const nlohmann::json& value = block.at(key);
+    if (!value.is_number() || !std::isfinite(value.get<double>())) {
+      throw ConfigError(file, path + "." + key, "expected a finite number");
+    }
+    return value.get<double>();
+  };
+  if (basis == "constant") {
+    allowOnly({"basis"});
+    return spec;
+  }
+  if (basis == "polynomial") {
+    allowOnly({"basis", "degree", "zero_at", "min_degree"});
+    spec.basis = IdentifySpec::Basis::Polynomial;
+    if (!block.contains("degree") || !block.at("degree").is_number_integer() ||
+        block.at("degree").get<int>() < 0 || block.at("degree").get<int>() > 12) {
+      throw ConfigError(file, path + ".degree", "expected an integer degree 0..12");
+    }
+    spec.degree = block.at("degree").get<int>();
+    if (block.contains("zero_at")) {
+      spec.hasZeroAt = true;
+      spec.zeroAtMm = number("zero_at");
+      spec.minDegree = 1;
+    }
+    if (block.contains("min_degree")) {
+      if (!block.at("min_degree").is_number_integer() || block.at("min_degree").get<int>() < 0) {
+        throw ConfigError(file, path + ".min_degree", "expected an integer >= 0");
+      }
+      spec.minDegree = block.at("min_degree").get<int>();
+      if (spec.hasZeroAt && spec.minDegree < 1) {
+        throw ConfigError(file, path + ".min_degree",
+                          "with zero_at the lowest power is at least 1 (the function is 0 there)");
+      }
+    }
+    if (spec.minDegree > spec.degree) {
+      throw ConfigError(file, path + ".degree",
+                        "the degree must be at least the lowest power (" +
+                            std::to_string(spec.minDegree) + ")");
+    }
+    return spec;
+  }
+  if (basis == "table") {
+    allowOnly({"basis", "positions", "interpolation", "smoothness"});
+    spec.basis = IdentifySpec::Basis::Table;
+    if (!block.contains("positions") || !block.at("positions").is_array() ||
+        block.at("positions").size() < 2) {
+      throw ConfigError(file, path + ".positions", "expected an array of at least 2 positions (mm)");
+    }
+    const nlohmann::json& positions = block.at("positions");
+    for (std::size_t j = 0; j < positions.size(); ++j) {
+      const std::string elementPath = path + ".positions[" + std::to_string(j) + "]";
+      if (!positions[j].is_number() || !std::isfinite(positions[j].get<double>())) {
+        throw ConfigError(file, elementPath, "expected a finite number (mm)");
+      }
+      const double value = positions[j].get<double>();
+      if (!spec.positions.empty() && !(value > spec.positions.back())) {
+        throw ConfigError(file, elementPath, "positions must be strictly increasing");
+      }
+      spec.positions.push_back(value);
+    }
+    spec.interpolation = model::Interpolation::Linear;
+    if (block.contains("interpolation")) {
+      const nlohmann::json& interpolation = block.at("interpolation");
+      const std::string value = interpolation.is_string() ? interpolation.get<std::string>() : "";
+      if (value == "linear") {
+        spec.interpolation = model::Interpolation::Linear;
+      } else if (value == "cubic") {
+        spec.interpolation = model::Interpolation::Cubic;
+      } else if (value == "quadratic") {
+        spec.interpolation = model::Interpolation::Quadratic;
+        if (spec.positions.size() % 2 == 0) {
+          throw ConfigError(file, path + ".positions",
+                            "quadratic interpolation needs an odd number of positions");
+        }
+      } else {
+        throw ConfigError(file, path + ".interpolation",
+                          "expected \"linear\", \"quadratic\" or \"cubic\"");
+      }
+    }
+    if (block.contains("smoothness")) {
+      spec.smoothness = number("smoothness");
+      if (spec.smoothness < 0.0) {
+        throw ConfigError(file, path + ".smoothness", "expected a weight >= 0");
+      }
+    }
+    return spec;
+  }
+  throw ConfigError(file, path + ".basis",
+                    "expected \"constant\", \"polynomial\" or \"table\", got \"" + basis + "\"");
+}
+
+std::vector<double> MachineIdentification::startValues(const Component& component,
+                                                       const model::ErrorFunctionSpec& start,
+                                                       const std::string& file,
+                                                       const std::string& path) {
+  std::vector<double> values(static_cast<std::size_t>(component.count), 0.0);
+  const IdentifySpec& spec = component.spec;
+  if (const double* constant = std::get_if<double>(&start)) {
+    if (*constant == 0.0) return values;
+    if (spec.basis == IdentifySpec::Basis::Table) {
+      std::fill(values.begin(), values.end(), *constant);
+      return values;
+    }
+    if (spec.minDegree == 0) {
+      values[0] = *constant;
+      return values;
+    }
+  } else if (const auto* polynomial = std::get_if<model::PolynomialSpec>(&start)) {
+    if (spec.basis == IdentifySpec::Basis::Polynomial && !spec.hasZeroAt && spec.minDegree == 0 &&
+        static_cast<int>(polynomial->coefficients.size()) <= spec.degree + 1) {
+      std::copy(polynomial->coefficients.begin(), polynomial->coefficients.end(), values.begin());
+      return values;
+    }
+  } else if (const auto* table = std::get_if<model::TableSpec>(&start)) {
+    if (spec.basis == IdentifySpec::Basis::Table && table->positionsMm == spec.positions &&
+        table->valuesNegative.empty()) {
+      return table->values;
+    }
+  }
+  throw ConfigError(file, path,
+                    "the start value must be a constant or have the form of the identify basis "
+                    "(same degree or same table positions)");
+}
+
+void MachineIdentification::evaluateBasis(const Component& component, double qMm,
+                                          double* out) const {
+  const IdentifySpec& spec = component.spec;
+  switch (spec.basis) {
+    case IdentifySpec::Basis::Constant:
+      out[0] = 1.0;
+      return;
+    case IdentifySpec::Basis::Polynomial: {
+      const double u = spec.hasZeroAt ? qMm - spec.zeroAtMm : qMm;
+      double power = std::pow(u, spec.minDegree);
+      for (int j = 0; j < component.count; ++j) {
+        out[j] = power;
+        power *= u;
+      }
+      return;
+    }
+    case IdentifySpec::Basis::Table:
+      for (int j = 0; j < component.count; ++j) {
+        out[j] = component.nodeBasis[static_cast<std::size_t>(j)].value(qMm);
+      }
+      return;
+  }
+}
+
+Eigen::VectorXd MachineIdentification::startVector() const {
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(parameterCount_);
+  for (const Component& component : components_) {
+    for (int j = 0; j < component.count; ++j) {
+      p(component.first + j) = component.start[static_cast<std::size_t>(j)];
+    }
+  }
+  for (const LocationParameter& location : locations_) p(location.parameter) = location.start;
+  return p;
+}
+
+int MachineIdentification::residualsPerObservation() const { return hasAngles_ ? 6 : 3; }
+
+void MachineIdentification::motionValues(const double* p, int i,
+                                         model::MotionValues& values) const {
+  const Point& point = points_[static_cast<std::size_t>(i)];
+  values = point.baseMotion;
+  const double* basis = basis_.data() + static_cast<std::size_t>(i) * basisWidth_;
+  int column = 0;
+  for (const Component& component : components_) {
+    double sum = 0.0;
+    for (int j = 0; j < component.count; ++j) sum += p[component.first + j] * basis[column + j];
+    values[static_cast<std::size_t>(component.motion)] = sum;
+    column += component.count;
+  }
+  if (locations_.empty()) return;
+  std::array<std::array<double, 3>, 3> angles{};
+  std::array<bool, 3> touched{};
+  for (int k = 0; k < 3; ++k) {
+    for (int r = 0; r < 3; ++r) {
+      angles[static_cast<std::size_t>(k)][static_cast<std::size_t>(r)] =
+          model_->spec().locationRad[static_cast<std::size_t>(3 * k + r)];
+    }
+  }
+  for (const LocationParameter& location : locations_) {
+    angles[static_cast<std::size_t>(location.index / 3)][static_cast<std::size_t>(
+        location.index % 3)] = p[location.parameter];
+    touched[static_cast<std::size_t>(location.index / 3)] = true;
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (!touched[static_cast<std::size_t>(k)]) continue;
+    const auto& a = angles[static_cast<std::size_t>(k)];
+    const Eigen::Vector3d direction = model::rotationZYX(a[0], a[1], a[2]).col(k);
+    const Eigen::Vector3d shift = axisSign_[static_cast<std::size_t>(k)] * point.qMm[k] *
+                                  (direction - baseDirection_[static_cast<std::size_t>(k)]);
+    for (int t = 0; t < 3; ++t) values[static_cast<std::size_t>(6 * k + t)] += shift[t];
+  }
+}
+
+void MachineIdentification::predict(const double* p, int i, const model::MotionValues& values,
+                                    double* out) const {
+  const Point& point = points_[static_cast<std::size_t>(i)];
+  const model::PointError error =
+      model::composeError(*model_, *workspace_, point.qMm, values, point.toolMm);
+  const double* frame = frameFirst_ >= 0 ? p + frameFirst_ : nullptr;
+  const Eigen::Vector3d position = predictedPositionError(frame, point.nominalMm, error.errorMm);
+  for (int t = 0; t < 3; ++t) out[t] = position[t];
+  if (hasAngles_) {
+    const Eigen::Vector3d angle = predictedAngularError(frame, error.angularErrorRad);
+    for (int t = 0; t < 3; ++t) out[3 + t] = angle[t];
+  }
+}
+
+void MachineIdentification::observationResiduals(const double* p, int i, double* r) const {
+  const Point& point = points_[static_cast<std::size_t>(i)];
+  model::MotionValues values;
+  motionValues(p, i, values);
+  predict(p, i, values, r);
+  for (int t = 0; t < 3; ++t) r[t] = (r[t] - point.measuredMm[t]) * point.sqrtWeight;
+  if (hasAngles_) {
+    for (int t = 0; t < 3; ++t) {
+      r[3 + t] = (r[3 + t] - point.measuredAngleRad[t]) * point.sqrtWeight * options_.angleScaleMm;
+    }
+  }
+}
+
+void MachineIdentification::observationJacobian(const double* p, int i, double* jacobian) const {
+  const Point& point = points_[static_cast<std::size_t>(i)];
+  const int rows = residualsPerObservation();
+  const int n = parameterCount_;
+  std::fill(jacobian, jacobian + rows * n, 0.0);
+  model::MotionValues values;
+  motionValues(p, i, values);
+  std::array<double, 6> centre{}, plus{}, minus{};
+  predict(p, i, values, centre.data());
+
+  // Sensitivity of the predicted rows to each needed motion value.
+  std::array<std::array<double, 6>, 18> sensitivity{};
+  for (int c : needed_) {
+    const bool rotation = c % 6 >= 3;
+    const double saved = values[static_cast<std::size_t>(c)];
+    auto& column = sensitivity[static_cast<std::size_t>(c)];
+    if (rotation) {
+      values[static_cast<std::size_t>(c)] = saved + kRotationStepRad;
+      predict(p, i, values, plus.data());
+      values[static_cast<std::size_t>(c)] = saved - kRotationStepRad;
+      predict(p, i, values, minus.data());
+      for (int row = 0; row < rows; ++row) {
+        column[static_cast<std::size_t>(row)] =
+            (plus[static_cast<std::size_t>(row)] - minus[static_cast<std::size_t>(row)]) /
+            (2.0 * kRotationStepRad);
+      }
+    } else {
+      // The position is affine in a translation: a forward difference is exact.
+      values[static_cast<std::size_t>(c)] = saved + kTranslationStepMm;
+      predict(p, i, values, plus.data());
+      for (int row = 0; row < rows; ++row) {
+        column[static_cast<std::size_t>(row)] =
+            (plus[static_cast<std::size_t>(row)] - centre[static_cast<std::size_t>(row)]) /
+            kTranslationStepMm;
+      }
+    }
+    values[static_cast<std::size_t>(c)] = saved;
+  }
+
+  const double* basis = basis_.data() + static_cast<std::size_t>(i) * basisWidth_;
+  int basisColumn = 0;
+  for (const Component& component : components_) {
+    const auto& column = sensitivity[static_cast<std::size_t>(component.motion)];
+    for (int j = 0; j < component.count; ++j) {
+      const double b = basis[basisColumn + j];
+      for (int row = 0; row < rows; ++row) {
+        jacobian[row * n + component.first + j] = column[static_cast<std::size_t>(row)] * b;
+      }
+    }
+    basisColumn += component.count;
+  }
+  for (const LocationParameter& location : locations_) {
+    const int axis = location.index / 3;
+    const int about = location.index % 3;
+    std::array<double, 3> angles{};
+    for (int r = 0; r < 3; ++r) {
+      angles[static_cast<std::size_t>(r)] =
+          model_->spec().locationRad[static_cast<std::size_t>(3 * axis + r)];
+    }
+    for (const LocationParameter& other : locations_) {
+      if (other.index / 3 == axis) {
+        angles[static_cast<std::size_t>(other.index % 3)] = p[other.parameter];
+      }
+    }
+    std::array<double, 3> up = angles, down = angles;
+    up[static_cast<std::size_t>(about)] += kRotationStepRad;
+    down[static_cast<std::size_t>(about)] -= kRotationStepRad;
+    const Eigen::Vector3d derivative = (model::rotationZYX(up[0], up[1], up[2]).col(axis) -
+                                        model::rotationZYX(down[0], down[1], down[2]).col(axis)) /
+                                       (2.0 * kRotationStepRad) *
+                                       (axisSign_[static_cast<std::size_t>(axis)] * point.qMm[axis]);
+    for (int row = 0; row < rows; ++row) {
+      double sum = 0.0;
+      for (int t = 0; t < 3; ++t) {
+        sum += sensitivity[static_cast<std::size_t>(6 * axis + t)][static_cast<std::size_t>(row)] *
+               derivative[t];
+      }
+      jacobian[row * n + location.parameter] = sum;
+    }
+  }
+  if (frameFirst_ >= 0) {
+    std::array<double, 6> frame{};
+    for (int f = 0; f < 6; ++f) frame[static_cast<std::size_t>(f)] = p[frameFirst_ + f];
+    const model::PointError error =
+        model::composeError(*model_, *workspace_, point.qMm, values, point.toolMm);
+    for (int f = 0; f < 6; ++f) {
+      const double step = f < 3 ? kFrameStep : kTranslationStepMm;
+      std::array<double, 6> up = frame, down = frame;
+      up[static_cast<std::size_t>(f)] += step;
+      down[static_cast<std::size_t>(f)] -= step;
+      const Eigen::Vector3d dPosition =
+          (predictedPositionError(up.data(), point.nominalMm, error.errorMm) -
+           predictedPositionError(down.data(), point.nominalMm, error.errorMm)) /
+          (2.0 * step);
+      for (int t = 0; t < 3; ++t) jacobian[t * n + frameFirst_ + f] = dPosition[t];
+      if (hasAngles_) {
+        const Eigen::Vector3d dAngle =
+            (predictedAngularError(up.data(), error.angularErrorRad) -
+             predictedAngularError(down.data(), error.angularErrorRad)) /
+            (2.0 * step);
+        for (int t = 0; t < 3; ++t) jacobian[(3 + t) * n + frameFirst_ + f] = dAngle[t];
+      }
+    }
+  }
+  for (int row = 0; row < rows; ++row) {
+    const double scale = point.sqrtWeight * (row >= 3 ? options_.angleScaleMm : 1.0);
+    for (int j = 0; j < n; ++j) jacobian[row * n + j] *= scale;
+  }
+}
+
+int MachineIdentification::priorRowCount() const { return priorRows_; }
+
+void MachineIdentification::priorResiduals(const double* p, double* r) const {
+  int row = 0;
+  for (const Component& component : components_) {
+    if (!(component.spec.smoothness > 0.0) || component.count < 3) continue;
+    const double weight = std::sqrt(component.spec.smoothness);
+    const double* v = p + component.first;
+    for (int j = 1; j + 1 < component.count; ++j) {
+      r[row++] = weight * (v[j - 1] - 2.0 * v[j] + v[j + 1]);
+    }
+  }
+}
+
+void MachineIdentification::priorJacobian(const double*, double* jacobian) const {
+  const int n = parameterCount_;
+  std::fill(jacobian, jacobian + priorRows_ * n, 0.0);
+  int row = 0;
+  for (const Component& component : components_) {
+    if (!(component.spec.smoothness > 0.0) || component.count < 3) continue;
+    const double weight = std::sqrt(component.spec.smoothness);
+    for (int j = 1; j + 1 < component.count; ++j) {
+      jacobian[row * n + component.first + j - 1] = weight;
+      jacobian[row * n + component.first + j] = -2.0 * weight;
+      jacobian[row * n + component.first + j + 1] = weight;
+      ++row;
+    }
+  }
+}
+
+double MachineIdentification::observationWeight(int i) const {
+  return points_[static_cast<std::size_t>(i)].weight;
+}
+
+model::MachineModelSpec MachineIdentification::identifiedSpec(const Eigen::VectorXd& p) const {
+  model::MachineModelSpec spec = template_;
+  for (const Component& component : components_) {
+    const double* v = p.data() + component.first;
+    model::ErrorFunctionSpec function;
+    switch (component.spec.basis) {
+      case IdentifySpec::Basis::Constant:
+        function = v[0];
+        break;
+      case IdentifySpec::Basis::Polynomial: {
+        // sum_k c_k (q - z)^k = sum_m [sum_{k >= m} c_k C(k, m) (-z)^(k - m)] q^m.
+        const int degree = component.spec.degree;
+        const double z = component.spec.hasZeroAt ? component.spec.zeroAtMm : 0.0;
+        const int lowest = component.spec.minDegree;
+        model::PolynomialSpec polynomial;
+        polynomial.coefficients.assign(static_cast<std::size_t>(degree + 1), 0.0);
+        for (int k = lowest; k <= degree; ++k) {
+          for (int m = 0; m <= k; ++m) {
+            polynomial.coefficients[static_cast<std::size_t>(m)] +=
+                v[k - lowest] * binomial(k, m) * std::pow(-z, k - m);
+          }
+        }
+        function = polynomial;
+        break;
+      }
+      case IdentifySpec::Basis::Table: {
+        model::TableSpec table;
+        table.positionsMm = component.spec.positions;
+        table.values.assign(v, v + component.count);
+        table.interpolation = component.spec.interpolation;
+        function = table;
+        break;
+      }
+    }
+    spec.motion[static_cast<std::size_t>(component.motion)] = function;
+  }
+  for (const LocationParameter& location : locations_) {
+    spec.locationRad[static_cast<std::size_t>(location.index)] = p(location.parameter);
+  }
+  return spec;
+}
+
+nlohmann::json MachineIdentification::modelJson(const Eigen::VectorXd& p) const {
+  return config::writeModel(identifiedSpec(p), document_.units);
+}
+
+}  // namespace volcomp::calibration::detail

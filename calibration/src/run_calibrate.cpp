@@ -1,0 +1,96 @@
+#include "volcomp/calibration/run_calibrate.hpp"
+
+#include <fstream>
+#include <ostream>
+#include <stdexcept>
+
+#include "volcomp/calibration/measurements.hpp"
+#include "volcomp/calibration/report.hpp"
+#include "volcomp/config/model_file.hpp"
+
+namespace volcomp::calibration {
+namespace {
+
+using config::ConfigError;
+
+void writeJsonFile(const std::string& path, const nlohmann::json& document) {
+  std::ofstream file(path);
+  file << document.dump(2) << '\n';
+  file.close();
+  if (!file) throw ConfigError(path, "", "cannot write the file");
+}
+
+}  // namespace
+
+int runCalibrate(const CalibrateOptions& options, std::ostream& out) {
+  SolveOptions solveOptions;
+  if (options.loss == "huber") {
+    solveOptions.loss = RobustLoss::Huber;
+  } else if (options.loss == "cauchy") {
+    solveOptions.loss = RobustLoss::Cauchy;
+  } else if (options.loss != "none") {
+    throw std::invalid_argument("--loss: expected none, huber or cauchy, got " + options.loss);
+  }
+  if (options.method != "auto" && options.method != "linear" && options.method != "lm") {
+    throw std::invalid_argument("--method: expected auto, linear or lm, got " + options.method);
+  }
+  if (!(options.lossScaleMm > 0.0)) throw std::invalid_argument("--loss-scale: expected > 0");
+  if (!(options.rankTolerance > 0.0 && options.rankTolerance < 1.0)) {
+    throw std::invalid_argument("--rank-tol: expected a value in (0, 1)");
+  }
+  solveOptions.lossScale = options.lossScaleMm;
+  solveOptions.rankTolerance = options.rankTolerance;
+  solveOptions.maxIterations = options.maxIterations;
+  solveOptions.progress = [&out](const std::string& line) { out << "  " << line << std::endl; };
+
+  config::ParseOptions parseOptions;
+  parseOptions.allowIdentify = true;
+  const config::ModelDocument document = config::loadModelFile(options.templatePath, parseOptions);
+  if (document.identify.empty()) {
+    throw ConfigError(options.templatePath, "components",
+                      "nothing to identify: mark components with {\"identify\": ...}");
+  }
+  const MeasurementSet measurements = readMeasurementsCsv(options.measurementsPath);
+  out << "read " << measurements.points.size() << " points from " << options.measurementsPath
+      << std::endl;
+  const auto problem = makeIdentificationProblem(document, measurements, options.identification);
+  if (problem->rowCount() < problem->parameterCount()) {
+    out << "warning: " << problem->rowCount() << " equations for " << problem->parameterCount()
+        << " parameters: some combinations cannot be identified" << std::endl;
+  }
+  const bool linear =
+      options.method == "linear" ||
+      (options.method == "auto" && problem->nearlyLinear() && solveOptions.loss == RobustLoss::None);
+  if (linear && solveOptions.loss != RobustLoss::None) {
+    throw std::invalid_argument("--loss needs --method lm (or auto)");
+  }
+  solveOptions.method = linear ? Method::Linear : Method::LevenbergMarquardt;
+  out << "identifying " << problem->parameterCount() << " parameters ("
+      << (linear ? "linear identification" : "Levenberg-Marquardt") << ")" << std::endl;
+
+  const FitResult fit = solve(*problem, problem->startVector(), solveOptions);
+
+  ReportContext context;
+  context.templateFile = options.templatePath;
+  context.measurementFile = options.measurementsPath;
+  context.method = linear ? "linear" : "levenberg-marquardt";
+  context.loss = options.loss;
+  context.rankTolerance = options.rankTolerance;
+  for (const Measurement& m : measurements.points) context.lines.push_back(m.line);
+
+  nlohmann::json model = problem->modelJson(fit.parameters);
+  // The output must load as an ordinary model file; check it before writing.
+  config::parseModel(model, options.outPath);
+  writeJsonFile(options.outPath, model);
+  if (!options.reportPath.empty()) {
+    writeJsonFile(options.reportPath, reportJson(fit, problem->parameterInfo(), context));
+  }
+  out << '\n';
+  writeSummary(out, fit, problem->parameterInfo(), context);
+  out << "\nmodel written to " << options.outPath;
+  if (!options.reportPath.empty()) out << ", report to " << options.reportPath;
+  out << std::endl;
+  return 0;
+}
+
+}  // namespace volcomp::calibration

@@ -1,5 +1,6 @@
 #include "volcomp/model/machine_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -8,6 +9,7 @@
 
 #include "eval_plan.hpp"
 #include "piecewise.hpp"
+#include "simd.hpp"
 #include "small_angle.hpp"
 #include "volcomp/model/so3.hpp"
 
@@ -137,57 +139,52 @@ std::shared_ptr<const EvalPlan> buildPlan(
   return plan;
 }
 
-// sin and cos - 1 of the nine error angles (EA, EB, EC of X, Y, Z, at 3 k + 0, 1, 2), for the
-// position; the exact angular error adds their half-angle ones.
+// sin and cos - 1 of the nine error angles (EA, EB, EC of X, Y, Z, at 3 k + 0, 1, 2; lane 9 is
+// padding), for the position; the exact angular error adds their half-angle ones.
 struct AngleSet {
-  double x[9];  // the angles
-  double s[9];  // sin(x)
-  double m[9];  // cos(x) - 1
+  alignas(16) double x[10];  // the angles
+  alignas(16) double s[10];  // sin(x)
+  alignas(16) double m[10];  // cos(x) - 1
 };
 
-// The short series of detail::sinCosm1 for every lane, exact to double rounding when every
-// |x| < 1e-2 rad (the caller checks); written out so that the compiler can pair lanes in SIMD
-// registers.
-[[gnu::always_inline]] inline void seriesSinCosm1(const double* x, double* s, double* m,
-                                                  int n) noexcept {
-#pragma GCC unroll 9
-  for (int i = 0; i < n; ++i) {
-    const double x2 = x[i] * x[i];
-    s[i] = x[i] + x[i] * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040)));
-    m[i] = x2 * (-0.5 + x2 * (1.0 / 24 + x2 * (-1.0 / 720)));
+// The short series of detail::sinCosm1 on five lane pairs, exact to double rounding when every
+// |x| < 1e-2 rad (the caller checks).
+[[gnu::always_inline]] inline void seriesSinCosm1(const double* x, double* s, double* m) noexcept {
+  using detail::Double2;
+  using detail::splat2;
+#pragma GCC unroll 5
+  for (int i = 0; i < 10; i += 2) {
+    const Double2 v = detail::load2(x + i);
+    const Double2 v2 = v * v;
+    const Double2 sv =
+        v + v * v2 * (splat2(-1.0 / 6) + v2 * (splat2(1.0 / 120) + v2 * splat2(-1.0 / 5040)));
+    const Double2 mv = v2 * (splat2(-0.5) + v2 * (splat2(1.0 / 24) + v2 * splat2(-1.0 / 720)));
+    detail::store2(s + i, sv);
+    detail::store2(m + i, mv);
   }
 }
 
-[[gnu::always_inline]] inline bool allSmall(const double* x, int n) noexcept {
-  bool small = true;
-#pragma GCC unroll 9
-  for (int i = 0; i < n; ++i) small &= std::abs(x[i]) < detail::kSmallAngleRad;
-  return small;
+// True when every one of the ten lanes is below 1e-2 rad in magnitude (false for NaN).
+[[gnu::always_inline]] inline bool allSmall(const double* x) noexcept {
+  using detail::Double2;
+  const Double2 limit = detail::splat2(detail::kSmallAngleRad);
+  auto below = [&](int i) {
+    const Double2 v = detail::load2(x + i);
+    return (v < limit) & (-v < limit);  // lanes of all ones where |v| < limit
+  };
+  const auto all = below(0) & below(2) & below(4) & below(6) & below(8);
+  return (all[0] & all[1]) != 0;
 }
 
 [[gnu::always_inline]] inline void computeAngles(const MotionValues& v, AngleSet& a) noexcept {
-#pragma GCC unroll 3
-  for (int k = 0; k < 3; ++k) {
-    a.x[3 * k] = v[6 * k + 3];
-    a.x[3 * k + 1] = v[6 * k + 4];
-    a.x[3 * k + 2] = v[6 * k + 5];
-  }
-  if (allSmall(a.x, 9)) {
-    seriesSinCosm1(a.x, a.s, a.m, 9);
+  std::memcpy(a.x, v.data() + 3, 3 * sizeof(double));
+  std::memcpy(a.x + 3, v.data() + 9, 3 * sizeof(double));
+  std::memcpy(a.x + 6, v.data() + 15, 3 * sizeof(double));
+  a.x[9] = 0.0;
+  if (allSmall(a.x)) {
+    seriesSinCosm1(a.x, a.s, a.m);
   } else {
-    for (int i = 0; i < 9; ++i) detail::sinCosm1(a.x[i], a.s[i], a.m[i]);
-  }
-}
-
-// sin(x/2) and cos(x/2) - 1 of the nine angles.
-void halfAngles(const AngleSet& a, double* sh, double* mh) noexcept {
-  double h[9];
-#pragma GCC unroll 9
-  for (int i = 0; i < 9; ++i) h[i] = 0.5 * a.x[i];
-  if (allSmall(h, 9)) {
-    seriesSinCosm1(h, sh, mh, 9);
-  } else {
-    for (int i = 0; i < 9; ++i) detail::sinCosm1(h[i], sh[i], mh[i]);
+    for (int i = 0; i < 10; ++i) detail::sinCosm1(a.x[i], a.s[i], a.m[i]);
   }
 }
 
@@ -270,53 +267,38 @@ struct Vec {
   return d;
 }
 
-struct Quat {
-  double w, x, y, z;
-};
-
-[[gnu::always_inline]] inline Quat multiply(const Quat& p, const Quat& q) noexcept {
-  return {
-      p.w * q.w - p.x * q.x - p.y * q.y - p.z * q.z, p.w * q.x + p.x * q.w + p.y * q.z - p.z * q.y,
-      p.w * q.y - p.x * q.z + p.y * q.w + p.z * q.x, p.w * q.z + p.x * q.y - p.y * q.x + p.z * q.w};
-}
-
-// Unit quaternion of Rz(c) Ry(b) Rx(a) of carriage k from the half-angle sines and cosines.
-[[gnu::always_inline]] inline Quat carriageQuaternion(const double* sh, const double* mh,
-                                                      int k) noexcept {
+// R = Rz(c) Ry(b) Rx(a) of carriage k from the sines and cosines the position already needed.
+[[gnu::always_inline]] inline Eigen::Matrix3d carriageRotation(const AngleSet& t, int k) noexcept {
   const int i = 3 * k;
-  const double sa = sh[i], sb = sh[i + 1], sc = sh[i + 2];
-  const double ca = 1.0 + mh[i], cb = 1.0 + mh[i + 1], cc = 1.0 + mh[i + 2];
-  return {cc * cb * ca + sc * sb * sa, cc * cb * sa - sc * sb * ca, cc * sb * ca + sc * cb * sa,
-          sc * cb * ca - cc * sb * sa};
+  const double sa = t.s[i], sb = t.s[i + 1], sc = t.s[i + 2];
+  const double ca = 1.0 + t.m[i], cb = 1.0 + t.m[i + 1], cc = 1.0 + t.m[i + 2];
+  Eigen::Matrix3d r;
+  r(0, 0) = cc * cb;
+  r(0, 1) = cc * sb * sa - sc * ca;
+  r(0, 2) = cc * sb * ca + sc * sa;
+  r(1, 0) = sc * cb;
+  r(1, 1) = sc * sb * sa + cc * ca;
+  r(1, 2) = sc * sb * ca - cc * sa;
+  r(2, 0) = -sb;
+  r(2, 1) = cb * sa;
+  r(2, 2) = cb * ca;
+  return r;
 }
 
-// Rotation vector of rot(H_WT) = R_W1^T ... R_Wn^T R_T1 ... R_Tn, composed as quaternions (the
-// same product order; a transpose is a conjugate) and taken through the quaternion log map,
-// which needs no acos near 0 and no special case at pi.
+// Rotation vector of rot(H_WT) = R_W1^T ... R_Wn^T R_T1 ... R_Tn (workpieceChain runs from the
+// frame outward, Wn first).
 Eigen::Vector3d angularError(const EvalPlan& plan, const AngleSet& angles) noexcept {
-  double sh[9], mh[9];
-  halfAngles(angles, sh, mh);
-  // Left to right: W1 (the last of the from-frame list) ... Wn, then T1 ... Tn.
-  Quat r{1.0, 0.0, 0.0, 0.0};
-  for (int i = plan.workpieceCount; i-- > 0;) {
-    const Quat c = carriageQuaternion(sh, mh, plan.workpieceChain[i]);
-    r = multiply(r, {c.w, -c.x, -c.y, -c.z});
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+  if (plan.toolCount > 0) {
+    r = carriageRotation(angles, plan.toolChain[plan.toolCount - 1]);
+    for (int i = plan.toolCount - 1; i-- > 0;) {
+      r = (carriageRotation(angles, plan.toolChain[i]) * r).eval();
+    }
   }
-  for (int i = 0; i < plan.toolCount; ++i) {
-    r = multiply(r, carriageQuaternion(sh, mh, plan.toolChain[i]));
+  for (int i = 0; i < plan.workpieceCount; ++i) {
+    r = (carriageRotation(angles, plan.workpieceChain[i]).transpose() * r).eval();
   }
-  if (r.w < 0.0) r = {-r.w, -r.x, -r.y, -r.z};
-  const double s2 = r.x * r.x + r.y * r.y + r.z * r.z;
-  double f;
-  if (s2 < 1e-4) {
-    // angle = 2 asin(|v|) for w >= 0; 2 asin(s) / s = 2 (1 + s^2/6 + 3 s^4/40 + 5 s^6/112 +
-    // 35 s^8/1152 + ...), the omitted terms below 1e-19 relative for s < 1e-2.
-    f = 2.0 * (1.0 + s2 * (1.0 / 6 + s2 * (3.0 / 40 + s2 * (5.0 / 112 + s2 * (35.0 / 1152)))));
-  } else {
-    const double s = std::sqrt(s2);
-    f = 2.0 * std::atan2(s, r.w) / s;
-  }
-  return {f * r.x, f * r.y, f * r.z};
+  return rotationVector(r);
 }
 
 [[gnu::always_inline]] inline Eigen::Vector3d positionError(const MachineModel& model,
@@ -409,9 +391,12 @@ std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qM
       if (group.full) {
         // The common case (every component of the axis tabulated over the same positions): six
         // contiguous coefficients per power, a fixed-length loop the compiler can vectorise.
-#pragma GCC unroll 6
-        for (int e = 0; e < 6; ++e) {
-          out[e] = c[e] + t * (c[6 + e] + t * (c[12 + e] + t * c[18 + e]));
+        const detail::Double2 tt = detail::splat2(t);
+        for (int e = 0; e < 6; e += 2) {
+          detail::store2(
+              out + e, detail::load2(c + e) +
+                           tt * (detail::load2(c + 6 + e) + tt * (detail::load2(c + 12 + e) +
+                                                                  tt * detail::load2(c + 18 + e))));
         }
       } else {
         for (int e = 0; e < n; ++e) {

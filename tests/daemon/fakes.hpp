@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "volcomp/daemon/compensation_model.hpp"
 #include "volcomp/daemon/ports.hpp"
@@ -65,6 +66,7 @@ class FakePort final : public ControllerPort {
     if (writeError) return writeError;
     last = command;
     ++writes;
+    if (history != nullptr) history->push_back(command);
     if (!holdApplied) applied = command.offsetMm;
     return {};
   }
@@ -86,6 +88,8 @@ class FakePort final : public ControllerPort {
     return writes ? std::optional(last) : std::nullopt;
   }
   OffsetCommand last{};
+  /// When set, every successful write is appended (tests that need the whole sequence).
+  std::vector<OffsetCommand>* history = nullptr;
   int writes = 0;
   int writeCalls = 0;
   int readCalls = 0;

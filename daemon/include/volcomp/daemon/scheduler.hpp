@@ -42,6 +42,8 @@ class PeriodicScheduler {
   /// Deadlines skipped because of overruns.
   std::uint64_t missedDeadlines() const noexcept { return missed_; }
   std::chrono::nanoseconds period() const noexcept { return period_; }
+  /// The deadline of the cycle running now (or of the next one, between cycles).
+  std::chrono::steady_clock::time_point deadline() const noexcept { return deadline_; }
 
  private:
   void arm();

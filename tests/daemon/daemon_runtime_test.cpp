@@ -1,0 +1,246 @@
+// The daemon around the loop: sd_notify against a real NOTIFY_SOCKET, readiness, watchdog pings
+// from the cycle, status lines, stop with ramp-out, and reloads (good and rejected). The
+// io_context runs on the test thread in short slices until a condition holds or a timeout
+// expires; nothing sleeps.
+#include "volcomp/daemon/daemon.hpp"
+
+#include <gtest/gtest.h>
+
+#include <asio/io_context.hpp>
+#include <asio/post.hpp>
+#include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fakes.hpp"
+#include "notify_socket.hpp"
+#include "volcomp/config/config_error.hpp"
+#include "volcomp/daemon/steady_clock.hpp"
+
+namespace volcomp::daemon::testing {
+namespace {
+
+using namespace std::chrono_literals;
+
+class RecordingNotifier final : public Notifier {
+ public:
+  void notify(std::string_view message) noexcept override { messages.emplace_back(message); }
+  std::optional<std::chrono::microseconds> watchdogInterval() const noexcept override {
+    return watchdog;
+  }
+  int count(std::string_view prefix) const {
+    int n = 0;
+    for (const auto& m : messages) n += m.rfind(prefix, 0) == 0 ? 1 : 0;
+    return n;
+  }
+  std::vector<std::string> messages;
+  std::optional<std::chrono::microseconds> watchdog;
+};
+
+config::DaemonConfig testConfig() {
+  config::DaemonConfig c;
+  c.file = "test.json";
+  c.cyclePeriodMs = 2.0;
+  c.limiter.maxOffsetMm = 0.5;
+  c.limiter.maxRateMmS = 5.0;  // 0.01 mm per 2 ms cycle
+  c.staleTimeoutMs = 100.0;
+  c.modelPath = "model.json";
+  c.transportType = "modbus-tcp";
+  c.transport = nlohmann::json::object();
+  return c;
+}
+
+// Runs `io` in slices until `done()` or the timeout; returns done().
+bool runUntil(asio::io_context& io, const std::function<bool()>& done,
+              std::chrono::milliseconds timeout = 10s) {
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (!done() && std::chrono::steady_clock::now() < until) {
+    io.restart();
+    io.run_for(2ms);
+  }
+  return done();
+}
+
+class DaemonTest : public ::testing::Test {
+ protected:
+  void make(Daemon::Loader loader = {}) {
+    if (!loader)
+      loader = [] { return LoadedConfiguration{testConfig(), std::make_shared<FakeModel>()}; };
+    daemon = std::make_unique<Daemon>(io, port, clock, notifier,
+                                      LoadedConfiguration{testConfig(), model}, loader,
+                                      [this] { finished = true; });
+  }
+
+  asio::io_context io;
+  FakePort port;
+  SteadyClock clock;
+  RecordingNotifier notifier;
+  std::shared_ptr<FakeModel> model = std::make_shared<FakeModel>();
+  std::unique_ptr<Daemon> daemon;
+  bool finished = false;
+};
+
+TEST_F(DaemonTest, ReadyAfterTheFirstGoodCycleAndWatchdogFromTheCycle) {
+  notifier.watchdog = 40ms;  // pings every 10 ms
+  make();
+  daemon->start();
+  ASSERT_TRUE(runUntil(io, [&] { return notifier.count("WATCHDOG=1") >= 3; }));
+  ASSERT_GE(notifier.count("READY=1"), 1);
+  EXPECT_EQ(notifier.messages.front(), "READY=1");
+  EXPECT_TRUE(daemon->ready());
+}
+
+TEST_F(DaemonTest, NoReadyWhileTheLinkIsDown) {
+  port.connectError = std::make_error_code(std::errc::connection_refused);
+  make();
+  daemon->start();
+  runUntil(io, [&] { return daemon->scheduler().cycles() >= 50; });
+  EXPECT_EQ(notifier.count("READY=1"), 0);
+  EXPECT_EQ(daemon->loop().state(), LoopState::LinkLost);
+}
+
+TEST_F(DaemonTest, StatusLineAtMostOncePerSecond) {
+  make();
+  daemon->start();
+  ASSERT_TRUE(runUntil(
+      io, [&] { return notifier.count("STATUS=") >= 1; }, 5s));
+  const auto first = std::chrono::steady_clock::now();
+  ASSERT_TRUE(runUntil(
+      io, [&] { return notifier.count("STATUS=") >= 2; }, 5s));
+  EXPECT_GE(std::chrono::steady_clock::now() - first, 900ms);
+  std::string status;
+  for (const auto& m : notifier.messages) {
+    if (m.rfind("STATUS=", 0) == 0) status = m;
+  }
+  EXPECT_NE(status.find("active"), std::string::npos) << status;
+  EXPECT_NE(status.find("Hz"), std::string::npos) << status;
+  EXPECT_NE(status.find("offsets"), std::string::npos) << status;
+  EXPECT_NE(status.find("fault none"), std::string::npos) << status;
+}
+
+TEST_F(DaemonTest, StopRampsOutWritesZeroInactiveAndFinishes) {
+  make();
+  daemon->start();
+  ASSERT_TRUE(runUntil(io, [&] { return port.applied[2] == 0.03; }));
+  daemon->requestStop();
+  ASSERT_TRUE(runUntil(io, [&] { return finished; }));
+  EXPECT_EQ(notifier.count("STOPPING=1"), 1);
+  EXPECT_EQ(port.last.status, 0);
+  for (double o : port.last.offsetMm) EXPECT_EQ(o, 0.0);
+  EXPECT_EQ(daemon->loop().state(), LoopState::Finished);
+}
+
+TEST_F(DaemonTest, RejectedReloadKeepsTheModelAndReportsIt) {
+  make([]() -> LoadedConfiguration {
+    throw config::ConfigError("model.json", "components.EXX.values[3]", "expected a number");
+  });
+  daemon->start();
+  ASSERT_TRUE(runUntil(io, [&] { return daemon->ready(); }));
+  daemon->requestReload();
+  EXPECT_EQ(notifier.count("RELOADING=1"), 1);
+  ASSERT_TRUE(runUntil(io, [&] { return !daemon->reloading(); }));
+  ASSERT_TRUE(runUntil(io, [&] { return (port.last.status & status::kReloadFailed) != 0; }));
+  EXPECT_NE(daemon->reloadError().find("components.EXX.values[3]"), std::string::npos);
+  EXPECT_EQ(&daemon->loop().model(), model.get());
+  EXPECT_NE(daemon->statusLine().find("reload failed"), std::string::npos);
+  EXPECT_EQ(notifier.messages.back(), "READY=1");  // RELOADING=1 is closed by READY=1
+}
+
+TEST_F(DaemonTest, GoodReloadSlewsToTheNewModel) {
+  auto next = std::make_shared<FakeModel>(std::array<double, 3>{0.01, -0.02, 0.2});
+  make([next] { return LoadedConfiguration{testConfig(), next}; });
+  daemon->start();
+  ASSERT_TRUE(runUntil(io, [&] { return port.applied[2] == 0.03; }));
+  std::vector<OffsetCommand> writes;
+  writes.reserve(100000);
+  port.history = &writes;
+  daemon->requestReload();
+  ASSERT_TRUE(runUntil(io, [&] { return !daemon->reloading(); }));
+  EXPECT_EQ(&daemon->loop().model(), next.get());
+  ASSERT_TRUE(runUntil(io, [&] { return port.applied[2] == 0.2; }));
+  port.history = nullptr;
+  bool sawReloadedBit = false;
+  double previous = writes.front().offsetMm[2];
+  for (const OffsetCommand& w : writes) {
+    // Each write moves by at most 5 mm/s * 2 ms = 0.01 mm: the new model slews in.
+    EXPECT_LE(w.offsetMm[2] - previous, 0.01 + 1e-12);
+    previous = w.offsetMm[2];
+    sawReloadedBit = sawReloadedBit || (w.status & status::kModelReloaded) != 0;
+  }
+  EXPECT_GE(writes.size(), 17u);  // (0.2 - 0.03) / 0.01
+  EXPECT_TRUE(sawReloadedBit);
+  EXPECT_TRUE(daemon->reloadError().empty());
+}
+
+// The real sd_notify path: libsystemd writes to the NOTIFY_SOCKET this test binds.
+TEST(SystemdNotifier, SendsMessagesToTheNotifySocket) {
+  NotifySocket socket;
+  SystemdNotifier notifier;
+  notifier.notify("READY=1");
+  EXPECT_EQ(socket.receive(5s).value_or("<nothing>"), "READY=1");
+  notifier.notify("STATUS=active 100.0 Hz");
+  EXPECT_EQ(socket.receive(5s).value_or("<nothing>"), "STATUS=active 100.0 Hz");
+}
+
+TEST(SystemdNotifier, WatchdogIntervalComesFromTheEnvironment) {
+  SystemdNotifier notifier;
+  ::unsetenv("WATCHDOG_USEC");
+  ::unsetenv("WATCHDOG_PID");
+  EXPECT_FALSE(notifier.watchdogInterval().has_value());
+  ::setenv("WATCHDOG_USEC", "2000000", 1);
+  ::setenv("WATCHDOG_PID", std::to_string(::getpid()).c_str(), 1);
+  ASSERT_TRUE(notifier.watchdogInterval().has_value());
+  EXPECT_EQ(*notifier.watchdogInterval(), std::chrono::seconds(2));
+  ::unsetenv("WATCHDOG_USEC");
+  ::unsetenv("WATCHDOG_PID");
+}
+
+TEST(SystemdNotifier, WithoutNotifySocketNothingHappens) {
+  ::unsetenv("NOTIFY_SOCKET");
+  SystemdNotifier notifier;
+  notifier.notify("READY=1");  // no socket: silently ignored
+  SUCCEED();
+}
+
+TEST(SystemdNotifier, DaemonLifecycleOverARealNotifySocket) {
+  NotifySocket socket;
+  ::setenv("WATCHDOG_USEC", "40000", 1);
+  ::setenv("WATCHDOG_PID", std::to_string(::getpid()).c_str(), 1);
+  asio::io_context io;
+  FakePort port;
+  SteadyClock clock;
+  SystemdNotifier notifier;
+  bool finished = false;
+  Daemon daemon(
+      io, port, clock, notifier, LoadedConfiguration{testConfig(), std::make_shared<FakeModel>()},
+      [] {
+        return LoadedConfiguration{testConfig(), std::make_shared<FakeModel>()};
+      },
+      [&] { finished = true; });
+  daemon.start();
+
+  std::vector<std::string> received;
+  const auto receivedOne = [&](std::string_view prefix) {
+    return runUntil(io, [&] {
+      while (auto m = socket.receive(0ms)) received.push_back(*m);
+      for (const auto& m : received) {
+        if (m.rfind(prefix, 0) == 0) return true;
+      }
+      return false;
+    });
+  };
+  EXPECT_TRUE(receivedOne("READY=1"));
+  EXPECT_TRUE(receivedOne("WATCHDOG=1"));
+  EXPECT_TRUE(receivedOne("STATUS=active"));
+  daemon.requestReload();
+  EXPECT_TRUE(receivedOne("RELOADING=1"));
+  daemon.requestStop();
+  EXPECT_TRUE(receivedOne("STOPPING=1"));
+  EXPECT_TRUE(runUntil(io, [&] { return finished; }));
+  ::unsetenv("WATCHDOG_USEC");
+  ::unsetenv("WATCHDOG_PID");
+}
+
+}  // namespace
+}  // namespace volcomp::daemon::testing

@@ -3,6 +3,7 @@
 #include <cerrno>
 
 #include <gtest/gtest.h>
+#include <asio/error.hpp>
 
 #include "volcomp/can/errors.hpp"
 #include "volcomp/daemon/ports.hpp"
@@ -13,6 +14,9 @@ namespace {
 std::error_code sys(int e) {
   return {e, std::system_category()};
 }
+std::error_code asioSys(int e) {
+  return {e, asio::error::get_system_category()};
+}
 
 // The daemon's reconnect logic depends on this mapping, so it is checked without a CAN kernel.
 TEST(SocketErrors, InterfaceLossIsALinkError) {
@@ -20,6 +24,8 @@ TEST(SocketErrors, InterfaceLossIsALinkError) {
     const std::error_code mapped = mapSocketError(sys(e));
     EXPECT_EQ(mapped, std::errc::network_down) << e;
     EXPECT_TRUE(daemon::isLinkError(mapped)) << e;
+    // What Asio's socket operations actually report.
+    EXPECT_EQ(mapSocketError(asioSys(e)), std::errc::network_down) << e;
   }
 }
 
@@ -28,7 +34,9 @@ TEST(SocketErrors, FullTransmitQueueIsADroppedFrameNotALinkError) {
     const std::error_code mapped = mapSocketError(sys(e));
     EXPECT_EQ(mapped, Errc::TxDropped) << e;
     EXPECT_FALSE(daemon::isLinkError(mapped)) << e;
+    EXPECT_EQ(mapSocketError(asioSys(e)), Errc::TxDropped) << e;
   }
+  EXPECT_EQ(mapSocketError(asio::error::would_block), Errc::TxDropped);
   EXPECT_EQ(mapSocketError(sys(EINVAL)), sys(EINVAL));
 }
 

@@ -14,10 +14,10 @@
 namespace volcomp::can {
 
 std::error_code mapSocketError(std::error_code ec) noexcept {
-  if (!ec || ec.category() != std::system_category()) {
-    if (ec == asio::error::would_block) return Errc::TxDropped;
+  // Standalone Asio reports errno values in its own "asio.system" category.
+  if (!ec || (ec.category() != std::system_category() &&
+              ec.category() != asio::error::get_system_category()))
     return ec;
-  }
   switch (ec.value()) {
     case ENETDOWN:
     case ENODEV:

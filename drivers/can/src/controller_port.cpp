@@ -118,6 +118,7 @@ std::error_code CanControllerPort::read(daemon::AxisSample& out) noexcept {
     if (auto ec = channel_.send(*layout_.syncFrame, layout_.bitrateSwitch)) {
       if (ec == std::errc::network_down) {
         ++stats_.linkErrors;
+        lastLinkError_ = ec;
         linkLost_ = true;
         return linkDown();
       }
@@ -184,6 +185,7 @@ std::error_code CanControllerPort::write(const daemon::OffsetCommand& command) n
       result = ec;
     } else if (ec == std::errc::network_down) {
       ++stats_.linkErrors;
+      lastLinkError_ = ec;
       linkLost_ = true;
       return linkDown();
     } else {
@@ -287,8 +289,9 @@ void CanControllerPort::onMalformed() noexcept {
 }
 
 void CanControllerPort::onReceiveError(std::error_code ec) noexcept {
-  if (ec == std::errc::network_down) ++stats_.linkErrors;
   // Any receive failure leaves the socket unusable: treat it as a lost link and reopen.
+  ++stats_.linkErrors;
+  lastLinkError_ = ec;
   linkLost_ = true;
 }
 

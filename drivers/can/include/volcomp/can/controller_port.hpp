@@ -51,7 +51,7 @@ struct CanStats {
   std::uint64_t errorPassiveEvents = 0;
   std::uint64_t completeSets = 0;     ///< complete, consistent input sets assembled
   std::uint64_t discardedFrames = 0;  ///< input frames superseded by a newer sequence counter
-  std::uint64_t linkErrors = 0;       ///< interface down / gone events
+  std::uint64_t linkErrors = 0;       ///< link lost: interface down / gone, socket failed
 };
 
 class CanControllerPort final : public daemon::ControllerPort, private FrameReceiver {
@@ -67,6 +67,8 @@ class CanControllerPort final : public daemon::ControllerPort, private FrameRece
 
   const CanStats& stats() const noexcept { return stats_; }
   BusState busState() const noexcept { return busState_; }
+  /// The socket error that last ended the link (for the log line), empty before any.
+  std::error_code lastLinkError() const noexcept { return lastLinkError_; }
   const CanLayout& layout() const noexcept { return layout_; }
 
  private:
@@ -101,6 +103,7 @@ class CanControllerPort final : public daemon::ControllerPort, private FrameRece
   std::chrono::steady_clock::time_point setTime_{};
   std::chrono::steady_clock::time_point connectTime_{};
   BusState busState_ = BusState::ErrorActive;
+  std::error_code lastLinkError_;
   CanStats stats_;
 };
 
@@ -108,6 +111,6 @@ class CanControllerPort final : public daemon::ControllerPort, private FrameRece
 /// config::ConfigError naming `file` (or the DBC file) and the key path under `keyPath`.
 std::unique_ptr<CanControllerPort> makeCanControllerPort(const nlohmann::json& section,
                                                          const std::string& file,
-                                                         const std::string& keyPath = "can");
+                                                         const std::string& keyPath = "transport");
 
 }  // namespace volcomp::can

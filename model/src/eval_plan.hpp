@@ -32,7 +32,8 @@ struct EvalPlan {
     double lowerMm = 0.0, upperMm = 0.0;  // travel, +-inf when unbounded
     std::array<double, 6> constants{};    // constant components (0 where a table/polynomial is)
     int groupBegin = 0, groupEnd = 0;
-    bool allTabulated = false;  // one full group: `constants` need not be copied
+    bool allTabulated = false;      // one full group: `constants` need not be copied
+    bool uniformTabulated = false;  // and its positions are uniform, no polynomials
     int polynomialBegin = 0, polynomialEnd = 0;
     double sign = 1.0;                           // +1 tool side, -1 workpiece side
     std::array<double, 3> direction{};           // d_K
@@ -49,6 +50,10 @@ struct EvalPlan {
   int toolCount = 0;
   std::array<int, 3> workpieceChain{};
   int workpieceCount = 0;
+  /// The order of the three axes (tool side, then workpiece side, both from the frame outward)
+  /// as a permutation index 2 A0 + (A1 < A0 ? A1 : A1 - 1), selecting the composition code
+  /// compiled for this topology.
+  int chainPermutation = 0;
 };
 
 struct PlanAccess {

@@ -118,6 +118,8 @@ std::shared_ptr<const EvalPlan> buildPlan(
     }
     axis.groupEnd = static_cast<int>(plan->groups.size());
     axis.allTabulated = axis.groupEnd - axis.groupBegin == 1 && plan->groups.back().full;
+    axis.uniformTabulated = axis.allTabulated && plan->groups.back().axis.uniform &&
+                            axis.polynomialBegin == axis.polynomialEnd;
     axis.polynomialEnd = static_cast<int>(plan->polynomials.size());
   }
   const double* data = plan->data.data();
@@ -136,6 +138,11 @@ std::shared_ptr<const EvalPlan> buildPlan(
   for (const Axis a : topology.workpieceSideFromFrame()) {
     plan->workpieceChain[plan->workpieceCount++] = static_cast<int>(a);
   }
+  std::array<int, 3> chain{};
+  for (int i = 0; i < 3; ++i) {
+    chain[i] = i < plan->toolCount ? plan->toolChain[i] : plan->workpieceChain[i - plan->toolCount];
+  }
+  plan->chainPermutation = 2 * chain[0] + (chain[1] < chain[0] ? chain[1] : chain[1] - 1);
   return plan;
 }
 
@@ -225,6 +232,66 @@ struct Vec {
   return {cx + bx, cy + ay, bz + az};
 }
 
+// One tool-side carriage K (known at compile time, so `nominal` stays in registers).
+template <int K>
+[[gnu::always_inline]] inline void toolStep(const EvalPlan& plan, const AngleSet& angles,
+                                            const Eigen::Vector3d& q, const MotionValues& v,
+                                            double (&nominal)[3], Vec& d) noexcept {
+  const double* e = v.data() + 6 * K;
+  const double* dme = plan.axes[K].directionMinusUnit.data();
+  const Vec r = rotateDeviation(angles, K, {nominal[0] + d.x, nominal[1] + d.y, nominal[2] + d.z});
+  d.x += r.x + e[0] + q[K] * dme[0];
+  d.y += r.y + e[1] + q[K] * dme[1];
+  d.z += r.z + e[2] + q[K] * dme[2];
+  nominal[K] += q[K];
+}
+
+// One workpiece-side carriage K.
+template <int K>
+[[gnu::always_inline]] inline void workpieceStep(const EvalPlan& plan, const AngleSet& angles,
+                                                 const Eigen::Vector3d& q, const MotionValues& v,
+                                                 double (&nominal)[3], Vec& d) noexcept {
+  const double* e = v.data() + 6 * K;
+  const double* dme = plan.axes[K].directionMinusUnit.data();
+  nominal[K] += q[K];
+  d.x += q[K] * dme[0] - e[0];
+  d.y += q[K] * dme[1] - e[1];
+  d.z += q[K] * dme[2] - e[2];
+  const Vec r =
+      inverseRotateDeviation(angles, K, {nominal[0] + d.x, nominal[1] + d.y, nominal[2] + d.z});
+  d.x += r.x;
+  d.y += r.y;
+  d.z += r.z;
+}
+
+// The chain of one topology: axes A0 A1 A2 are the NT tool-side axes from the frame outward
+// followed by the workpiece-side axes from the frame outward. Tool side first, from the tool
+// inward (H_FT applied to t), then H_FW^-1 from the frame outward (C_Wn^-1 first).
+template <int NT, int A0, int A1, int A2>
+Vec chainDeviation(const EvalPlan& plan, const AngleSet& angles, const Eigen::Vector3d& q,
+                   const MotionValues& v, const Eigen::Vector3d& tool) noexcept {
+  double nominal[3] = {tool.x(), tool.y(), tool.z()};
+  Vec d{0.0, 0.0, 0.0};
+  if constexpr (NT > 2) toolStep<A2>(plan, angles, q, v, nominal, d);
+  if constexpr (NT > 1) toolStep<A1>(plan, angles, q, v, nominal, d);
+  if constexpr (NT > 0) toolStep<A0>(plan, angles, q, v, nominal, d);
+  if constexpr (NT < 1) workpieceStep<A0>(plan, angles, q, v, nominal, d);
+  if constexpr (NT < 2) workpieceStep<A1>(plan, angles, q, v, nominal, d);
+  if constexpr (NT < 3) workpieceStep<A2>(plan, angles, q, v, nominal, d);
+  return d;
+}
+
+using ChainFunction = Vec (*)(const EvalPlan&, const AngleSet&, const Eigen::Vector3d&,
+                              const MotionValues&, const Eigen::Vector3d&) noexcept;
+
+// Indexed by [NT][permutation], permutation = 2 A0 + (A1 < A0 ? A1 : A1 - 1).
+template <int NT>
+constexpr std::array<ChainFunction, 6> kChainsWith = {
+    &chainDeviation<NT, 0, 1, 2>, &chainDeviation<NT, 0, 2, 1>, &chainDeviation<NT, 1, 0, 2>,
+    &chainDeviation<NT, 1, 2, 0>, &chainDeviation<NT, 2, 0, 1>, &chainDeviation<NT, 2, 1, 0>};
+constexpr std::array<std::array<ChainFunction, 6>, 4> kChains = {kChainsWith<0>, kChainsWith<1>,
+                                                                 kChainsWith<2>, kChainsWith<3>};
+
 // E(q) without grids, composed in deviation form: every partial product is carried as its
 // nominal value plus a deviation, and only deviations are accumulated, so that E keeps full
 // relative precision instead of being the difference of two positions of ~1e3 mm.
@@ -237,34 +304,7 @@ struct Vec {
 [[gnu::always_inline]] inline Vec positionDeviation(const EvalPlan& plan, const AngleSet& angles,
                                                     const Eigen::Vector3d& q, const MotionValues& v,
                                                     const Eigen::Vector3d& tool) noexcept {
-  double nominal[3] = {tool.x(), tool.y(), tool.z()};
-  Vec d{0.0, 0.0, 0.0};
-  for (int i = plan.toolCount; i-- > 0;) {
-    const int k = plan.toolChain[i];
-    const double* e = v.data() + 6 * k;
-    const double* dme = plan.axes[k].directionMinusUnit.data();
-    const Vec r =
-        rotateDeviation(angles, k, {nominal[0] + d.x, nominal[1] + d.y, nominal[2] + d.z});
-    d.x += r.x + e[0] + q[k] * dme[0];
-    d.y += r.y + e[1] + q[k] * dme[1];
-    d.z += r.z + e[2] + q[k] * dme[2];
-    nominal[k] += q[k];
-  }
-  for (int i = 0; i < plan.workpieceCount; ++i) {
-    const int k = plan.workpieceChain[i];
-    const double* e = v.data() + 6 * k;
-    const double* dme = plan.axes[k].directionMinusUnit.data();
-    nominal[k] += q[k];
-    d.x += q[k] * dme[0] - e[0];
-    d.y += q[k] * dme[1] - e[1];
-    d.z += q[k] * dme[2] - e[2];
-    const Vec r =
-        inverseRotateDeviation(angles, k, {nominal[0] + d.x, nominal[1] + d.y, nominal[2] + d.z});
-    d.x += r.x;
-    d.y += r.y;
-    d.z += r.z;
-  }
-  return d;
+  return kChains[plan.toolCount][plan.chainPermutation](plan, angles, q, v, tool);
 }
 
 // R = Rz(c) Ry(b) Rx(a) of carriage k from the sines and cosines the position already needed.
@@ -380,8 +420,26 @@ std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qM
       clamped = static_cast<std::uint8_t>(clamped | (1u << k));
     }
     double* out = values.data() + 6 * k;
-    if (!axis.allTabulated) std::memcpy(out, axis.constants.data(), sizeof axis.constants);
     const int curve = detail::curveIndex(directions[k]);
+    if (axis.uniformTabulated) {
+      // The usual measured axis: six tables over one uniform grid. Branch-free O(1) lookup
+      // (the position clamped into the table, then index and fraction) and three lane pairs.
+      const EvalPlan::Group& group = plan.groups[axis.groupBegin];
+      const detail::TableAxis& grid = group.axis;
+      const double scaled = std::min(std::max((q - grid.first) * grid.invStep, 0.0),
+                                     static_cast<double>(grid.count - 1));
+      const int i = std::min(static_cast<int>(scaled), grid.count - 2);
+      const detail::Double2 tt = detail::splat2(scaled - i);
+      const double* c = group.coefficients[curve] + 24 * i;
+      for (int e = 0; e < 6; e += 2) {
+        detail::store2(
+            out + e, detail::load2(c + e) +
+                         tt * (detail::load2(c + 6 + e) +
+                               tt * (detail::load2(c + 12 + e) + tt * detail::load2(c + 18 + e))));
+      }
+      continue;
+    }
+    if (!axis.allTabulated) std::memcpy(out, axis.constants.data(), sizeof axis.constants);
     for (int g = axis.groupBegin; g < axis.groupEnd; ++g) {
       const EvalPlan::Group& group = plan.groups[g];
       const detail::TableLocation at = group.axis.locate(q);

@@ -1,5 +1,6 @@
 #include "volcomp/model/machine_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -320,6 +321,59 @@ TEST(MachineModel, RejectsBadData) {
   grid.valuesMm = {0, 0, 0};
   spec.grids = {grid};
   bad(spec, "grids[0]");
+}
+
+}  // namespace
+}  // namespace volcomp::model
+
+namespace volcomp::model {
+namespace {
+
+TEST(MachineModel, EvaluateMotionMatchesErrorFunctions) {
+  // evaluateMotion groups tables and has a fast path for six uniform tables on one axis; it must
+  // give what each ErrorFunction gives on its own, at the travel-clamped position, for every
+  // direction. X: six uniform bidirectional tables (fast path); Y: mixed kinds incl. a
+  // polynomial and a non-uniform table; Z: constants and one quadratic table.
+  MachineModelSpec spec;
+  spec.topology = "XYFZ";
+  spec.travelMm = {std::array<double, 2>{0, 800}, std::array<double, 2>{-50, 450}, std::nullopt};
+  for (int kind = 0; kind < 6; ++kind) {
+    TableSpec t = testing::smoothTable(0, 800, 41, 0.01, kind, Interpolation::Cubic);
+    t.interpolation = kind % 2 ? Interpolation::Linear : Interpolation::Cubic;
+    t.valuesNegative = t.values;
+    for (double& value : t.valuesNegative) value = -0.5 * value + 0.001;
+    spec.motion[motionIndex(Axis::X, static_cast<MotionKind>(kind))] = t;
+  }
+  spec.motion[motionIndex(Axis::Y, MotionKind::EX)] =
+      testing::smoothTable(0, 400, 21, 0.01, 0.5, Interpolation::Linear);
+  spec.motion[motionIndex(Axis::Y, MotionKind::EY)] =
+      testing::smoothTable(0, 400, 21, 0.01, 1.5, Interpolation::Quadratic);
+  spec.motion[motionIndex(Axis::Y, MotionKind::EZ)] = PolynomialSpec{{1e-3, 2e-6, -1e-9}};
+  TableSpec uneven;
+  uneven.positionsMm = {-50, 0, 10, 200, 450};
+  uneven.values = {1e-4, -2e-4, 0, 3e-4, 1e-4};
+  uneven.interpolation = Interpolation::Cubic;
+  spec.motion[motionIndex(Axis::Y, MotionKind::EC)] = uneven;
+  spec.motion[motionIndex(Axis::Z, MotionKind::EA)] = 2e-5;
+  spec.motion[motionIndex(Axis::Z, MotionKind::EZ)] =
+      testing::smoothTable(-300, 0, 7, 0.005, 0.2, Interpolation::Quadratic);
+  const MachineModel model(spec);
+  for (const Direction d : {Direction::Positive, Direction::Negative, Direction::Unknown}) {
+    const Directions directions = {d, d, d};
+    for (double s = -0.1; s <= 1.1; s += 0.0037) {
+      const Eigen::Vector3d q(800 * s, 500 * s - 50, -300 * s);
+      MotionValues values{};
+      const std::uint8_t clamped = evaluateMotion(model, q, directions, values);
+      const std::uint8_t expectedClamped = static_cast<std::uint8_t>((s < 0 || s > 1) ? 0b011 : 0);
+      EXPECT_EQ(clamped, expectedClamped) << s;
+      const Eigen::Vector3d held(std::clamp(q.x(), 0.0, 800.0), std::clamp(q.y(), -50.0, 450.0),
+                                 q.z());
+      for (int i = 0; i < 18; ++i) {
+        EXPECT_NEAR(values[i], model.motion(i).value(held[i / 6], d), 1e-15)
+            << motionName(i) << " at s = " << s;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -53,7 +53,8 @@ class DhIdentification final : public IdentificationProblem {
         options_(options),
         hasAngles_(measurements.hasAngles) {
     const std::string& file = document.file;
-    const std::regex pattern(R"(chain\.links\[(\d+)\]\.(dtheta|dd|da|dalpha|drotation_deg|dtranslation))");
+    const std::regex pattern(
+        R"(chain\.links\[(\d+)\]\.(dtheta|dd|da|dalpha|drotation_deg|dtranslation))");
     for (const auto& [keyPath, block] : document.identify) {
       std::smatch match;
       if (!std::regex_match(keyPath, match, pattern)) {
@@ -72,8 +73,8 @@ class DhIdentification final : public IdentificationProblem {
       const auto add = [&](Field field, int component, const std::string& name, bool angle) {
         DeviationParameter parameter{link, field, component, deviation(spec, field, component)};
         parameters_.push_back(parameter);
-        info_.push_back({name, keyPath, angle ? "deg" : "mm", angle ? 1.0 / kDegToRad : 1.0,
-                         false});
+        info_.push_back(
+            {name, keyPath, angle ? "deg" : "mm", angle ? 1.0 / kDegToRad : 1.0, false});
       };
       if (key == "dtheta") add(Field::Theta, 0, label, true);
       if (key == "dd") add(Field::D, 0, label, false);
@@ -117,8 +118,8 @@ class DhIdentification final : public IdentificationProblem {
     for (const Measurement& m : measurements.points) {
       Point point;
       for (int j = 0; j < joints; ++j) {
-        const double value = measurements.jointColumns > 0 ? m.joints[static_cast<std::size_t>(j)]
-                                                            : m.qMm[j];
+        const double value =
+            measurements.jointColumns > 0 ? m.joints[static_cast<std::size_t>(j)] : m.qMm[j];
         point.joints.push_back(revolute[static_cast<std::size_t>(j)] ? value * kDegToRad : value);
       }
       point.measuredMm = m.errorMm;
@@ -154,8 +155,8 @@ class DhIdentification final : public IdentificationProblem {
     if (hasAngles_) {
       const Eigen::Vector3d angle = predictedAngularError(frame, result.angularErrorRad);
       for (int t = 0; t < 3; ++t) {
-        r[3 + t] = (angle[t] - point.measuredAngleRad[t]) * point.sqrtWeight *
-                   options_.angleScaleMm;
+        r[3 + t] =
+            (angle[t] - point.measuredAngleRad[t]) * point.sqrtWeight * options_.angleScaleMm;
       }
     }
   }

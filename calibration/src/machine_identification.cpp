@@ -101,8 +101,8 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
       case IdentifySpec::Basis::Polynomial: {
         component.count = spec.degree + 1 - spec.minDegree;
         for (int k = spec.minDegree; k <= spec.degree; ++k) {
-          info_.push_back({name + " c" + std::to_string(k), keyPath, powerUnit(unit, k),
-                           toDisplay, false});
+          info_.push_back(
+              {name + " c" + std::to_string(k), keyPath, powerUnit(unit, k), toDisplay, false});
         }
         break;
       }
@@ -129,9 +129,9 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
       }
     }
     parameter += component.count;
-    component.start = startValues(component, template_.motion[static_cast<std::size_t>(
-                                                  component.motion)],
-                                  file, keyPath + ".start");
+    component.start =
+        startValues(component, template_.motion[static_cast<std::size_t>(component.motion)], file,
+                    keyPath + ".start");
     base.motion[static_cast<std::size_t>(component.motion)] = 0.0;
     components_.push_back(std::move(component));
   }
@@ -169,7 +169,8 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
   for (int k = 0; k < 3; ++k) {
     axisSign_[static_cast<std::size_t>(k)] =
         topology.isWorkpieceSide(static_cast<model::Axis>(k)) ? -1.0 : 1.0;
-    baseDirection_[static_cast<std::size_t>(k)] = model_->axisDirection(static_cast<model::Axis>(k));
+    baseDirection_[static_cast<std::size_t>(k)] =
+        model_->axisDirection(static_cast<model::Axis>(k));
   }
   int basisWidth = 0;
   for (const Component& component : components_) basisWidth += component.count;
@@ -260,9 +261,9 @@ IdentifySpec MachineIdentification::parseIdentify(const nlohmann::json& block,
       }
     }
     if (spec.minDegree > spec.degree) {
-      throw ConfigError(file, path + ".degree",
-                        "the degree must be at least the lowest power (" +
-                            std::to_string(spec.minDegree) + ")");
+      throw ConfigError(
+          file, path + ".degree",
+          "the degree must be at least the lowest power (" + std::to_string(spec.minDegree) + ")");
     }
     return spec;
   }
@@ -271,7 +272,8 @@ IdentifySpec MachineIdentification::parseIdentify(const nlohmann::json& block,
     spec.basis = IdentifySpec::Basis::Table;
     if (!block.contains("positions") || !block.at("positions").is_array() ||
         block.at("positions").size() < 2) {
-      throw ConfigError(file, path + ".positions", "expected an array of at least 2 positions (mm)");
+      throw ConfigError(file, path + ".positions",
+                        "expected an array of at least 2 positions (mm)");
     }
     const nlohmann::json& positions = block.at("positions");
     for (std::size_t j = 0; j < positions.size(); ++j) {
@@ -384,7 +386,9 @@ Eigen::VectorXd MachineIdentification::startVector() const {
   return p;
 }
 
-int MachineIdentification::residualsPerObservation() const { return hasAngles_ ? 6 : 3; }
+int MachineIdentification::residualsPerObservation() const {
+  return hasAngles_ ? 6 : 3;
+}
 
 void MachineIdentification::motionValues(const double* p, int i,
                                          model::MotionValues& values) const {
@@ -408,8 +412,8 @@ void MachineIdentification::motionValues(const double* p, int i,
     }
   }
   for (const LocationParameter& location : locations_) {
-    angles[static_cast<std::size_t>(location.index / 3)][static_cast<std::size_t>(
-        location.index % 3)] = p[location.parameter];
+    angles[static_cast<std::size_t>(location.index / 3)]
+          [static_cast<std::size_t>(location.index % 3)] = p[location.parameter];
     touched[static_cast<std::size_t>(location.index / 3)] = true;
   }
   for (int k = 0; k < 3; ++k) {
@@ -516,10 +520,10 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
     std::array<double, 3> up = angles, down = angles;
     up[static_cast<std::size_t>(about)] += kRotationStepRad;
     down[static_cast<std::size_t>(about)] -= kRotationStepRad;
-    const Eigen::Vector3d derivative = (model::rotationZYX(up[0], up[1], up[2]).col(axis) -
-                                        model::rotationZYX(down[0], down[1], down[2]).col(axis)) /
-                                       (2.0 * kRotationStepRad) *
-                                       (axisSign_[static_cast<std::size_t>(axis)] * point.qMm[axis]);
+    const Eigen::Vector3d derivative =
+        (model::rotationZYX(up[0], up[1], up[2]).col(axis) -
+         model::rotationZYX(down[0], down[1], down[2]).col(axis)) /
+        (2.0 * kRotationStepRad) * (axisSign_[static_cast<std::size_t>(axis)] * point.qMm[axis]);
     for (int row = 0; row < rows; ++row) {
       double sum = 0.0;
       for (int t = 0; t < 3; ++t) {
@@ -545,10 +549,9 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
           (2.0 * step);
       for (int t = 0; t < 3; ++t) jacobian[t * n + frameFirst_ + f] = dPosition[t];
       if (hasAngles_) {
-        const Eigen::Vector3d dAngle =
-            (predictedAngularError(up.data(), error.angularErrorRad) -
-             predictedAngularError(down.data(), error.angularErrorRad)) /
-            (2.0 * step);
+        const Eigen::Vector3d dAngle = (predictedAngularError(up.data(), error.angularErrorRad) -
+                                        predictedAngularError(down.data(), error.angularErrorRad)) /
+                                       (2.0 * step);
         for (int t = 0; t < 3; ++t) jacobian[(3 + t) * n + frameFirst_ + f] = dAngle[t];
       }
     }
@@ -559,7 +562,9 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
   }
 }
 
-int MachineIdentification::priorRowCount() const { return priorRows_; }
+int MachineIdentification::priorRowCount() const {
+  return priorRows_;
+}
 
 void MachineIdentification::priorResiduals(const double* p, double* r) const {
   int row = 0;

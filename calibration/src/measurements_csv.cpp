@@ -30,10 +30,12 @@ std::vector<std::string> splitFields(const std::string& line) {
   return fields;
 }
 
-std::string linePath(int line) { return "line " + std::to_string(line); }
+std::string linePath(int line) {
+  return "line " + std::to_string(line);
+}
 
 bool isKnownColumn(const std::string& name) {
-  static const std::vector<std::string> known{"x",  "y",  "z",  "ex", "ey", "ez", "tx",
+  static const std::vector<std::string> known{"x",  "y",  "z",  "ex", "ey", "ez",    "tx",
                                               "ty", "tz", "ea", "eb", "ec", "weight"};
   for (const std::string& k : known) {
     if (k == name) return true;
@@ -119,8 +121,8 @@ MeasurementSet parseMeasurementsCsv(std::istream& input, const std::string& file
     const std::vector<std::string> fields = splitFields(line);
     if (fields.size() != header.size()) {
       throw ConfigError(file, linePath(lineNumber),
-                        "expected " + std::to_string(header.size()) + " fields as in the header, got " +
-                            std::to_string(fields.size()));
+                        "expected " + std::to_string(header.size()) +
+                            " fields as in the header, got " + std::to_string(fields.size()));
     }
     const auto value = [&](const std::string& name) {
       return parseNumber(fields[column.at(name)], file, lineNumber, name);
@@ -141,7 +143,8 @@ MeasurementSet parseMeasurementsCsv(std::istream& input, const std::string& file
     }
     set.points.push_back(std::move(m));
   }
-  if (header.empty()) throw ConfigError(file, "", "empty file: expected a header line x,y,z,ex,ey,ez");
+  if (header.empty())
+    throw ConfigError(file, "", "empty file: expected a header line x,y,z,ex,ey,ez");
   if (set.points.empty()) throw ConfigError(file, "", "no measurement rows after the header");
   return set;
 }

@@ -12,7 +12,9 @@ namespace {
 using Json = nlohmann::json;
 
 // JSON has no infinity; an infinite condition number is written as null.
-Json finiteOrNull(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
+Json finiteOrNull(double value) {
+  return std::isfinite(value) ? Json(value) : Json(nullptr);
+}
 
 Json stats(const ResidualStats& s, const ReportContext& context) {
   Json out{{"rms_mm", s.rms}, {"max_mm", s.max}};
@@ -53,7 +55,8 @@ nlohmann::json reportJson(const FitResult& fit, const std::vector<ParameterInfo>
     correlation.push_back(row);
   }
   Json singular = Json::array();
-  for (Eigen::Index i = 0; i < st.singularValues.size(); ++i) singular.push_back(st.singularValues(i));
+  for (Eigen::Index i = 0; i < st.singularValues.size(); ++i)
+    singular.push_back(st.singularValues(i));
   Json combinations = Json::array();
   for (const Combination& c : st.unidentifiable) {
     Json names = Json::array(), coefficients = Json::array();
@@ -66,28 +69,29 @@ nlohmann::json reportJson(const FitResult& fit, const std::vector<ParameterInfo>
                             {"relative_singular_value", c.relativeSingularValue},
                             {"description", c.description}});
   }
-  return Json{{"format", "volcomp-calibration-report/1"},
-              {"template", context.templateFile},
-              {"measurements", context.measurementFile},
-              {"method", context.method},
-              {"loss", context.loss},
-              {"points", context.lines.size()},
-              {"converged", fit.converged},
-              {"iterations", fit.iterations},
-              {"termination", fit.termination},
-              {"parameters", parameters},
-              {"correlation", correlation},
-              {"residuals", {{"before", stats(fit.before, context)}, {"after", stats(fit.after, context)}}},
-              {"rank", st.rank},
-              {"parameter_count", st.parameterCount},
-              {"rank_tolerance", context.rankTolerance},
-              {"condition_number", finiteOrNull(st.conditionNumber)},
-              {"full_condition_number", finiteOrNull(st.fullConditionNumber)},
-              {"singular_values", singular},
-              {"rows", st.rowCount},
-              {"dof", st.dof},
-              {"s0_mm", std::sqrt(st.varianceFactor)},
-              {"unidentifiable", combinations}};
+  return Json{
+      {"format", "volcomp-calibration-report/1"},
+      {"template", context.templateFile},
+      {"measurements", context.measurementFile},
+      {"method", context.method},
+      {"loss", context.loss},
+      {"points", context.lines.size()},
+      {"converged", fit.converged},
+      {"iterations", fit.iterations},
+      {"termination", fit.termination},
+      {"parameters", parameters},
+      {"correlation", correlation},
+      {"residuals", {{"before", stats(fit.before, context)}, {"after", stats(fit.after, context)}}},
+      {"rank", st.rank},
+      {"parameter_count", st.parameterCount},
+      {"rank_tolerance", context.rankTolerance},
+      {"condition_number", finiteOrNull(st.conditionNumber)},
+      {"full_condition_number", finiteOrNull(st.fullConditionNumber)},
+      {"singular_values", singular},
+      {"rows", st.rowCount},
+      {"dof", st.dof},
+      {"s0_mm", std::sqrt(st.varianceFactor)},
+      {"unidentifiable", combinations}};
 }
 
 void writeSummary(std::ostream& out, const FitResult& fit, const std::vector<ParameterInfo>& info,
@@ -135,7 +139,8 @@ void writeSummary(std::ostream& out, const FitResult& fit, const std::vector<Par
         continue;
       }
       const double c = st.correlation(i, j);
-      if (std::abs(c) >= 0.9) pairs.emplace_back(std::abs(c), static_cast<int>(i), static_cast<int>(j));
+      if (std::abs(c) >= 0.9)
+        pairs.emplace_back(std::abs(c), static_cast<int>(i), static_cast<int>(j));
     }
   }
   std::sort(pairs.rbegin(), pairs.rend());

@@ -59,8 +59,8 @@ int runCalibrate(const CalibrateOptions& options, std::ostream& out) {
         << " parameters: some combinations cannot be identified" << std::endl;
   }
   const bool linear =
-      options.method == "linear" ||
-      (options.method == "auto" && problem->nearlyLinear() && solveOptions.loss == RobustLoss::None);
+      options.method == "linear" || (options.method == "auto" && problem->nearlyLinear() &&
+                                     solveOptions.loss == RobustLoss::None);
   if (linear && solveOptions.loss != RobustLoss::None) {
     throw std::invalid_argument("--loss needs --method lm (or auto)");
   }

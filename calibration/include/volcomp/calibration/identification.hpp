@@ -6,8 +6,8 @@
 /// functions of its axis position (clamped to the travel): "constant" (1), "polynomial" of degree
 /// N (1, q, ..., q^N; with "zero_at": z the terms (q - z)^1..(q - z)^N, so the function is 0 at
 /// z; "min_degree": M starts at the power M, e.g. 2 for a straightness whose slope is left to the
-/// squareness), "table" (the node values of a linear/quadratic/cubic table at given positions, optional
-/// "smoothness" w adding prior rows sqrt(w) * (v[j-1] - 2 v[j] + v[j+1]), internal units).
+/// squareness), "table" (the node values of a linear/quadratic/cubic table at given positions,
+/// optional "smoothness" w adding prior rows sqrt(w) * (v[j-1] - 2 v[j] + v[j+1]), internal units).
 /// Identified location errors (EA0K, ...) are constants. Non-identified components keep their
 /// template values. D-H chains: identified deviations (dtheta, dd, da, dalpha, drotation_deg,
 /// dtranslation) are constants.
@@ -54,7 +54,9 @@ struct IdentificationOptions {
 class IdentificationProblem : public ResidualProblem {
  public:
   const std::vector<ParameterInfo>& parameterInfo() const noexcept { return info_; }
-  std::string parameterName(int j) const override { return info_[static_cast<std::size_t>(j)].name; }
+  std::string parameterName(int j) const override {
+    return info_[static_cast<std::size_t>(j)].name;
+  }
   /// Start values (from the template's "start" values, 0 otherwise).
   virtual Eigen::VectorXd startVector() const = 0;
   /// The identified model as a volcomp-model/1 document (template with identified values).

@@ -142,7 +142,7 @@ PointsSummary evaluatePointsFile(const model::MachineModel& model,
   if (in.bad()) throw config::ConfigError(inPath, lineKey(lineNumber + 1), "read failed");
   out.commit();
   if (progress && summary.rows >= kProgressEvery) {
-    std::cerr << "\rvolcomp eval: " << summary.rows << " rows\n";
+    std::cerr << "\rvolcomp eval: " << summary.rows << " rows, done\n";
   }
   return summary;
 }

@@ -188,6 +188,36 @@ TEST(CliEval, DhChainNeedsOneValuePerJoint) {
   EXPECT_NE(run.err.find("expected 1 comma-separated numbers"), std::string::npos) << run.err;
 }
 
+TEST(CliEval, FirstOrderModeAgreesWithExactForRealisticErrors) {
+  TempDir dir;
+  const std::string model = dir.write("xyfz.json", R"({"format": "volcomp-model/1",
+    "topology": "XYFZ", "tool": [0, 0, 100], "error_units": {"length": "um", "angle": "urad"},
+    "components": {"EBX": 100, "EAY": -80, "ECZ": 50, "EXX": 12, "EC0Y": 30}})");
+  const CliRun exact = runCli(dir, "eval " + quoted(model) + " --at 200,50,-30 --json");
+  const CliRun first =
+      runCli(dir, "eval " + quoted(model) + " --at 200,50,-30 --json --mode first-order");
+  ASSERT_EQ(exact.status, 0) << exact.err;
+  ASSERT_EQ(first.status, 0) << first.err;
+  // Spec section 4: small-angle evaluation agrees with the exact model within 1e-6 mm for
+  // |angles| < 1e-3 rad and arms < 2 m.
+  const Json e = parseOutput(exact)["error"];
+  expectVector(parseOutput(first)["error"], e[0].get<double>(), e[1].get<double>(),
+               e[2].get<double>(), 1e-6);
+}
+
+TEST(CliEval, ChainsTakeNoPointsFile) {
+  TempDir dir;
+  const std::string model = dir.write("arm.json", R"({"format": "volcomp-model/1",
+    "chain": {"links": [{"joint": "revolute", "theta": 0, "d": 0, "a": 100, "alpha": 0}]}})");
+  const std::string in = dir.write("in.csv", "x,y,z\n1,2,3\n");
+  const CliRun run = runCli(dir, "eval " + quoted(model) + " --points " + quoted(in) + " --out " +
+                                     quoted((dir.path() / "o.csv").string()));
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.errLines(), 1) << run.err;
+  EXPECT_NE(run.err.find("apply to 3-axis models, not to D-H chains"), std::string::npos)
+      << run.err;
+}
+
 TEST(CliEval, NonConvergedOffsetIsReportedWithStatus3) {
   TempDir dir;
   // p(x) = x + EXX(x) with EXX rising 3 mm per mm: the fixed point o <- o + p0 - p(q + o) of the

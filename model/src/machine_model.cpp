@@ -426,8 +426,11 @@ std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qM
       // (the position clamped into the table, then index and fraction) and three lane pairs.
       const EvalPlan::Group& group = plan.groups[axis.groupBegin];
       const detail::TableAxis& grid = group.axis;
-      const double scaled = std::min(std::max((q - grid.first) * grid.invStep, 0.0),
-                                     static_cast<double>(grid.count - 1));
+      // Written so that a NaN position lands on the first node instead of indexing anywhere.
+      double scaled = (q - grid.first) * grid.invStep;
+      scaled = scaled > 0.0 ? scaled : 0.0;
+      const double top = static_cast<double>(grid.count - 1);
+      scaled = scaled < top ? scaled : top;
       const int i = std::min(static_cast<int>(scaled), grid.count - 2);
       const detail::Double2 tt = detail::splat2(scaled - i);
       const double* c = group.coefficients[curve] + 24 * i;

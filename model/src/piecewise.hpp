@@ -79,7 +79,8 @@ std::array<std::vector<double>, 3> buildCurves(const TableSpec& table);
 /// Curve index for a direction: 0 Positive, 1 Negative, 2 Unknown (mean).
 inline int curveIndex(Direction direction) noexcept {
   static constexpr int kIndex[3] = {1, 2, 0};  // Negative, Unknown, Positive
-  return kIndex[static_cast<int>(direction) + 1];
+  const unsigned slot = static_cast<unsigned>(static_cast<int>(direction) + 1);
+  return slot < 3 ? kIndex[slot] : 2;  // a value outside the enum counts as Unknown
 }
 
 }  // namespace volcomp::model::detail

@@ -378,3 +378,48 @@ TEST(MachineModel, EvaluateMotionMatchesErrorFunctions) {
 
 }  // namespace
 }  // namespace volcomp::model
+
+namespace volcomp::model {
+namespace {
+
+TEST(MachineModel, NonFinitePositionsStayInsideTheTables) {
+  // A NaN or infinite position (a broken reading) must not index outside any table: NaN gives a
+  // NaN error (not a crash), infinities are held at the table ends.
+  std::mt19937 rng(11);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const MachineModelSpec& spec :
+       {testing::fullModel("XYFZ"), testing::randomModel(rng, 1e-3, 500, 100)}) {
+    MachineModelSpec unbounded = spec;
+    unbounded.travelMm = {};
+    for (const MachineModel& model : {MachineModel(spec), MachineModel(unbounded)}) {
+      Workspace ws;
+      EXPECT_TRUE(evaluate(model, ws, Eigen::Vector3d(nan, 10, -10)).errorMm.hasNaN());
+      EXPECT_FALSE(solveOffset(model, ws, Eigen::Vector3d(10, nan, -10)).converged);
+      MotionValues values{};
+      evaluateMotion(model, Eigen::Vector3d(inf, -inf, inf), {}, values);
+      for (int i = 0; i < 18; ++i) {
+        if (std::holds_alternative<TableSpec>(model.spec().motion[i])) {
+          EXPECT_TRUE(std::isfinite(values[i])) << motionName(i);
+        }
+      }
+    }
+  }
+}
+
+TEST(MachineModel, OutOfRangeDirectionCountsAsUnknown) {
+  MachineModelSpec spec;
+  TableSpec exx;
+  exx.positionsMm = {0, 100};
+  exx.values = {0, 0.010};
+  exx.valuesNegative = {0.004, 0.006};
+  spec.motion[0] = exx;
+  const MachineModel model(spec);
+  Workspace ws;
+  const Direction odd = static_cast<Direction>(5);
+  EXPECT_EQ(evaluate(model, ws, Eigen::Vector3d(75, 0, 0), {odd, odd, odd}).errorMm.x(),
+            evaluate(model, ws, Eigen::Vector3d(75, 0, 0)).errorMm.x());
+}
+
+}  // namespace
+}  // namespace volcomp::model

@@ -16,7 +16,7 @@
 
 namespace volcomp::test {
 
-inline sim::Vec3 noError(const sim::Vec3&) {
+inline sim::Vec3 noError(const sim::Vec3&, const sim::MotionDirections&) {
   return {};
 }
 

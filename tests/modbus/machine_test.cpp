@@ -18,7 +18,7 @@ daemon::OffsetCommand offsets(double x, double y, double z, std::uint16_t heartb
 }
 
 Machine standing(const Vec3& at, MachineOptions opt = {}, ErrorFunction e = {}) {
-  if (!e) e = [](const Vec3&) { return Vec3{}; };
+  if (!e) e = [](const Vec3&, const MotionDirections&) { return Vec3{}; };
   return Machine(Path::polyline({at}, 1000.0), std::move(e), opt);
 }
 
@@ -76,16 +76,19 @@ TEST(SimMachine, ChecksEveryWriteAgainstTheLimits) {
   opt.limits.maxRateMmS = 1.0;
   opt.limits.rateToleranceS = 0.001;
   opt.limits.quantumMm = {1e-4, 1e-4, 1e-4};
+  opt.limits.cycleS = 0.010;
   Machine m = standing({0, 0, 0}, opt);
   m.onSessionStart(0.0);
-  // 10 ms after the session start up to 1 mm/s * (0.010 + 0.001) + 2e-4 = 0.0112 mm is allowed.
+  // The first write of a session, 1 ms after connecting, may make one limiter step of the
+  // writer's 10 ms cycle: up to 1 mm/s * (0.010 + 0.001) + 2e-4 = 0.0112 mm.
+  m.onWrite(0.001, offsets(0.0105, 0, 0));
   m.onWrite(0.010, offsets(0.011, 0, 0));
   // Another 0.012 mm in 10 ms: 0.012 > 0.0112 -> rate violation on X.
   m.onWrite(0.020, offsets(0.023, 0, 0));
   // Beyond max_offset (+ one count): 0.0503 > 0.0501 -> offset violation on Y (rate ok over 1 s).
   m.onWrite(1.020, offsets(0.023, 0.0503, 0));
   const nlohmann::json r = m.report(1.1);
-  EXPECT_EQ(r["writes"], 3);
+  EXPECT_EQ(r["writes"], 4);
   EXPECT_EQ(r["limiter_violations"], 2);
   EXPECT_EQ(r["rate_violations"], 1);
   EXPECT_EQ(r["offset_violations"], 1);
@@ -94,14 +97,16 @@ TEST(SimMachine, ChecksEveryWriteAgainstTheLimits) {
   EXPECT_NE(r["first_violation"].get<std::string>().find("axis X"), std::string::npos);
   const auto w = m.writes();
   EXPECT_FALSE(w[0].violation);
-  EXPECT_TRUE(w[1].violation);
+  EXPECT_FALSE(w[1].violation);
   EXPECT_TRUE(w[2].violation);
+  EXPECT_TRUE(w[3].violation);
 }
 
 TEST(SimMachine, FirstWriteAfterReconnectMustContinueFromTheAppliedOffset) {
   MachineOptions opt;
   opt.limits.maxRateMmS = 0.5;
   opt.limits.rateToleranceS = 0.0;
+  opt.limits.cycleS = 0.01;
   opt.initialOffsetMm = {0.02, 0, 0};  // left applied by an earlier run
   Machine m = standing({0, 0, 0}, opt);
   m.onSessionStart(10.0);
@@ -114,7 +119,9 @@ TEST(SimMachine, ToolTipErrorWithAndWithoutCompensation) {
   // True error E(q) = (0.010 + 1e-4 x, 0, 0) mm. At x = 100: E = 0.020 mm, uncompensated 20 um.
   // With the exact offset o: x + o + E(x + o) = x -> o = -0.020 / 1.0001 = -0.019998 mm the
   // compensated error is E(q + o) + o = 0. With o = -0.010 it is 0.020 - 1e-6 - 0.010 = 9.999 um.
-  ErrorFunction e = [](const Vec3& q) { return Vec3{0.010 + 1e-4 * q[0], 0, 0}; };
+  ErrorFunction e = [](const Vec3& q, const MotionDirections&) {
+    return Vec3{0.010 + 1e-4 * q[0], 0, 0};
+  };
   Machine m = standing({100, 0, 0}, {}, e);
   m.sample(0.0);  // before the first write nothing is counted
   EXPECT_EQ(m.report(0.0)["samples"], 0);
@@ -151,8 +158,8 @@ TEST(SimMachine, HeartbeatWatchdogRampsTheOffsetsAway) {
 }
 
 TEST(SimMachine, FreezeHoldsTheRegistersHoldStopsTheMachine) {
-  Machine m(Path::polyline({{0, 0, 0}, {100, 0, 0}}, 6000.0), [](const Vec3&) { return Vec3{}; },
-            {});
+  Machine m(Path::polyline({{0, 0, 0}, {100, 0, 0}}, 6000.0),
+            [](const Vec3&, const MotionDirections&) { return Vec3{}; }, {});
   m.sample(0.0);
   EXPECT_NEAR(m.inputs(0.1).positionMm[0], 10.0, 1e-9);
   m.freeze(0.1, 0.2);

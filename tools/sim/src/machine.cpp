@@ -55,7 +55,12 @@ void Machine::advanceLocked(double tS) {
     moving = tS - holdUntil_;
   }
   pathTimeS_ += moving;
+  const Vec3 previous = programmed_;
   programmed_ = path_.at(pathTimeS_);
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (programmed_[k] > previous[k]) directions_[k] = 1;
+    if (programmed_[k] < previous[k]) directions_[k] = -1;
+  }
   if (options_.heartbeatTimeoutS > 0.0 && anyWrite_ &&
       tS - lastHeartbeatChangeT_ > options_.heartbeatTimeoutS) {
     if (!watchdogTripped_) {
@@ -115,8 +120,8 @@ void Machine::onWrite(double tS, const daemon::OffsetCommand& command, bool part
   if (partial) ++partialWrites_;
   // The reference of the rate check is what the controller applies right now (after any
   // watchdog ramp); dt runs from the previous write of this session, or from the session start.
-  const double refT = sessionWritten_ ? lastWriteT_ : sessionStartT_;
-  const double dt = std::max(0.0, tS - refT);
+  const double dt = sessionWritten_ ? std::max(0.0, tS - lastWriteT_)
+                                    : std::max(options_.limits.cycleS, tS - sessionStartT_);
   const Limits& lim = options_.limits;
   for (std::size_t k = 0; k < 3; ++k) {
     const double o = command.offsetMm[k];
@@ -187,10 +192,10 @@ void Machine::sample(double tS) {
   advanceLocked(tS);
   if (!anyWrite_ || tS < firstWriteT_ + options_.settleS) return;
   const Vec3 q = programmed_;
-  const Vec3 e = trueError_(q);
+  const Vec3 e = trueError_(q, directions_);
   Vec3 moved{};
   for (std::size_t k = 0; k < 3; ++k) moved[k] = q[k] + applied_[k];
-  const Vec3 em = trueError_(moved);
+  const Vec3 em = trueError_(moved, directions_);
   Vec3 comp{};
   for (std::size_t k = 0; k < 3; ++k) comp[k] = em[k] + applied_[k];
   uncompensated_.add(e);

@@ -144,7 +144,9 @@ int main(int argc, char** argv) {
                                                             : config::PositionSemantics::Commanded;
     }
     sim::Path path = sim::makePath(cfg.path);
-    sim::ErrorFunction trueError = [](const sim::Vec3&) { return sim::Vec3{}; };
+    sim::ErrorFunction trueError = [](const sim::Vec3&, const sim::MotionDirections&) {
+      return sim::Vec3{};
+    };
     if (cfg.modelPath) {
       sim::Travel travel{};
       trueError = sim::loadTrueError(*cfg.modelPath, &travel);

@@ -57,7 +57,8 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
                             : config::PositionSemantics::Commanded;
   c.path = parsePath(root.at("path"), file);
   if (auto l = root.find("limits")) {
-    l->allowOnly({"max_offset_mm", "max_rate_mm_s", "rate_tolerance_ms"});
+    l->allowOnly({"max_offset_mm", "max_rate_mm_s", "rate_tolerance_ms", "cycle_ms"});
+    if (auto v = l->find("cycle_ms")) c.machine.limits.cycleS = v->number(0.0, 1e6) / 1000.0;
     if (auto v = l->find("max_offset_mm")) c.machine.limits.maxOffsetMm = v->number(0.0, 1e6);
     if (auto v = l->find("max_rate_mm_s")) c.machine.limits.maxRateMmS = v->number(0.0, 1e6);
     if (auto v = l->find("rate_tolerance_ms")) {

@@ -5,7 +5,8 @@
 /// - the controller applies the compensation offsets o the daemon writes, immediately, so the
 ///   axes physically go to q + o; the position registers show q (`commanded` semantics) or q + o
 ///   (`actual`);
-/// - a TRUE error model E(q) = p(q) - p0(q) (mm, workpiece frame) gives the tool-tip error:
+/// - a TRUE error model E(q) = p(q) - p0(q) (mm, workpiece frame), evaluated with the direction in
+///   which each axis last moved, gives the tool-tip error:
 ///   uncompensated E(q), compensated p(q + o) - p0(q) = E(q + o) + o (p0 is linear in q);
 /// - every write is recorded and checked against the configured limits (|o| <= max_offset,
 ///   |o - o_prev| <= max_rate * (dt + rate_tolerance), plus two register counts of rounding);
@@ -29,8 +30,12 @@
 
 namespace volcomp::sim {
 
-/// True tool-tip position error E(q) (mm) at axis position q (mm).
-using ErrorFunction = std::function<Vec3(const Vec3&)>;
+/// Direction in which each axis last moved: -1, +1, or 0 (not moved yet).
+using MotionDirections = std::array<int, 3>;
+
+/// True tool-tip position error E(q) (mm) at axis position q (mm), for axes that last moved in
+/// the given directions (a bidirectional model picks its curves by them).
+using ErrorFunction = std::function<Vec3(const Vec3&, const MotionDirections&)>;
 
 struct Limits {
   double maxOffsetMm = std::numeric_limits<double>::infinity();
@@ -39,6 +44,9 @@ struct Limits {
   double rateToleranceS = 0.005;
   /// One register count of each offset output (mm): quantisation allowed in both checks.
   Vec3 quantumMm{};
+  /// The writer's cycle period: the first write of a session (nothing to measure dt from but the
+  /// connection) may step from the applied offset by max_rate * cycle, one limiter step.
+  double cycleS = 0.01;
 };
 
 struct MachineOptions {
@@ -132,6 +140,7 @@ class Machine {
   bool started_ = false;
   double pathTimeS_ = 0.0;
   Vec3 programmed_{};
+  MotionDirections directions_{};
   Vec3 applied_{};
   bool enable_ = true;
   bool homed_ = true;

@@ -149,49 +149,46 @@ std::shared_ptr<const EvalPlan> buildPlan(
 // sin and cos - 1 of the nine error angles (EA, EB, EC of X, Y, Z, at 3 k + 0, 1, 2; lane 9 is
 // padding), for the position; the exact angular error adds their half-angle ones.
 struct AngleSet {
-  alignas(16) double x[10];  // the angles
   alignas(16) double s[10];  // sin(x)
   alignas(16) double m[10];  // cos(x) - 1
 };
 
-// The short series of detail::sinCosm1 on five lane pairs, exact to double rounding when every
+// The short series of detail::sinCosm1 on one lane pair, exact to double rounding when both
 // |x| < 1e-2 rad (the caller checks).
-[[gnu::always_inline]] inline void seriesSinCosm1(const double* x, double* s, double* m) noexcept {
+[[gnu::always_inline]] inline void seriesSinCosm1(detail::Double2 v, double* s,
+                                                  double* m) noexcept {
   using detail::Double2;
   using detail::splat2;
-#pragma GCC unroll 5
-  for (int i = 0; i < 10; i += 2) {
-    const Double2 v = detail::load2(x + i);
-    const Double2 v2 = v * v;
-    const Double2 sv =
-        v + v * v2 * (splat2(-1.0 / 6) + v2 * (splat2(1.0 / 120) + v2 * splat2(-1.0 / 5040)));
-    const Double2 mv = v2 * (splat2(-0.5) + v2 * (splat2(1.0 / 24) + v2 * splat2(-1.0 / 720)));
-    detail::store2(s + i, sv);
-    detail::store2(m + i, mv);
-  }
+  const Double2 v2 = v * v;
+  const Double2 sv =
+      v + v * v2 * (splat2(-1.0 / 6) + v2 * (splat2(1.0 / 120) + v2 * splat2(-1.0 / 5040)));
+  const Double2 mv = v2 * (splat2(-0.5) + v2 * (splat2(1.0 / 24) + v2 * splat2(-1.0 / 720)));
+  detail::store2(s, sv);
+  detail::store2(m, mv);
 }
 
-// True when every one of the ten lanes is below 1e-2 rad in magnitude (false for NaN).
-[[gnu::always_inline]] inline bool allSmall(const double* x) noexcept {
-  using detail::Double2;
-  const Double2 limit = detail::splat2(detail::kSmallAngleRad);
-  auto below = [&](int i) {
-    const Double2 v = detail::load2(x + i);
-    return (v < limit) & (-v < limit);  // lanes of all ones where |v| < limit
-  };
-  const auto all = below(0) & below(2) & below(4) & below(6) & below(8);
-  return (all[0] & all[1]) != 0;
+// Lanes of all ones where |v| < 1e-2 rad (none for NaN).
+[[gnu::always_inline]] inline auto small(detail::Double2 v) noexcept {
+  const detail::Double2 limit = detail::splat2(detail::kSmallAngleRad);
+  return (v < limit) & (-v < limit);
 }
 
+// The angles are paired straight from the component values with scalar loads: each lies inside
+// one store of evaluateMotion, so the loads are forwarded from the store buffer, where a 16-byte
+// load straddling two stores would stall until they retire.
 [[gnu::always_inline]] inline void computeAngles(const MotionValues& v, AngleSet& a) noexcept {
-  std::memcpy(a.x, v.data() + 3, 3 * sizeof(double));
-  std::memcpy(a.x + 3, v.data() + 9, 3 * sizeof(double));
-  std::memcpy(a.x + 6, v.data() + 15, 3 * sizeof(double));
-  a.x[9] = 0.0;
-  if (allSmall(a.x)) {
-    seriesSinCosm1(a.x, a.s, a.m);
+  using detail::Double2;
+  const Double2 p0{v[3], v[4]}, p1{v[5], v[9]}, p2{v[10], v[11]}, p3{v[15], v[16]}, p4{v[17], 0.0};
+  const auto all = small(p0) & small(p1) & small(p2) & small(p3) & small(p4);
+  if ((all[0] & all[1]) != 0) {
+    seriesSinCosm1(p0, a.s, a.m);
+    seriesSinCosm1(p1, a.s + 2, a.m + 2);
+    seriesSinCosm1(p2, a.s + 4, a.m + 4);
+    seriesSinCosm1(p3, a.s + 6, a.m + 6);
+    seriesSinCosm1(p4, a.s + 8, a.m + 8);
   } else {
-    for (int i = 0; i < 10; ++i) detail::sinCosm1(a.x[i], a.s[i], a.m[i]);
+    const double x[9] = {v[3], v[4], v[5], v[9], v[10], v[11], v[15], v[16], v[17]};
+    for (int i = 0; i < 9; ++i) detail::sinCosm1(x[i], a.s[i], a.m[i]);
   }
 }
 
@@ -199,89 +196,89 @@ struct Vec {
   double x, y, z;
 };
 
-// (R - I) u for R = Rz(c) Ry(b) Rx(a) of carriage k, as three elementary rotations applied in
-// turn, each adding its own small change (m u + s u' terms): full relative precision in 12
-// multiplications, instead of building and applying a matrix.
-[[gnu::always_inline]] inline Vec rotateDeviation(const AngleSet& t, int k, Vec u) noexcept {
+// R_K - I of one carriage, row-major, built from the sines and cosines - 1 so that its small
+// entries keep full relative precision (see detail::rotationZYXMinusIdentity).
+struct Mat3 {
+  double a[9];
+};
+
+[[gnu::always_inline]] inline Mat3 carriageMinusIdentity(const AngleSet& t, int k) noexcept {
   const int i = 3 * k;
   const double sa = t.s[i], sb = t.s[i + 1], sc = t.s[i + 2];
   const double ma = t.m[i], mb = t.m[i + 1], mc = t.m[i + 2];
-  // Rx(a): y' = y + (m y - s z), z' = z + (s y + m z)
-  const double ay = ma * u.y - sa * u.z, az = sa * u.y + ma * u.z;
-  u.y += ay;
-  u.z += az;
-  // Ry(b): x' = x + (m x + s z), z' = z + (m z - s x)
-  const double bx = mb * u.x + sb * u.z, bz = mb * u.z - sb * u.x;
-  u.x += bx;
-  // Rz(c): x' = x + (m x - s y), y' = y + (s x + m y)
-  const double cx = mc * u.x - sc * u.y, cy = sc * u.x + mc * u.y;
-  return {bx + cx, ay + cy, az + bz};
+  const double ca = 1.0 + ma, cb = 1.0 + mb, cc = 1.0 + mc;
+  return {{mc + mb + mc * mb, cc * sb * sa - sc * ca, cc * sb * ca + sc * sa,  //
+           sc * cb, sc * sb * sa + mc + ma + mc * ma, sc * sb * ca - cc * sa,  //
+           -sb, cb * sa, mb + ma + mb * ma}};
 }
 
-// (R^T - I) u: R^T = Rx(-a) Ry(-b) Rz(-c), so Rz(-c) acts first.
-[[gnu::always_inline]] inline Vec inverseRotateDeviation(const AngleSet& t, int k, Vec u) noexcept {
-  const int i = 3 * k;
-  const double sa = t.s[i], sb = t.s[i + 1], sc = t.s[i + 2];
-  const double ma = t.m[i], mb = t.m[i + 1], mc = t.m[i + 2];
-  const double cx = mc * u.x + sc * u.y, cy = mc * u.y - sc * u.x;
-  u.x += cx;
-  u.y += cy;
-  const double bx = mb * u.x - sb * u.z, bz = sb * u.x + mb * u.z;
-  u.z += bz;
-  const double ay = ma * u.y + sa * u.z, az = ma * u.z - sa * u.y;
-  return {cx + bx, cy + ay, bz + az};
+[[gnu::always_inline]] inline Vec apply(const Mat3& m, double x, double y, double z) noexcept {
+  return {m.a[0] * x + m.a[1] * y + m.a[2] * z, m.a[3] * x + m.a[4] * y + m.a[5] * z,
+          m.a[6] * x + m.a[7] * y + m.a[8] * z};
 }
 
-// One tool-side carriage K (known at compile time, so `nominal` stays in registers).
+[[gnu::always_inline]] inline Vec applyTransposed(const Mat3& m, double x, double y,
+                                                  double z) noexcept {
+  return {m.a[0] * x + m.a[3] * y + m.a[6] * z, m.a[1] * x + m.a[4] * y + m.a[7] * z,
+          m.a[2] * x + m.a[5] * y + m.a[8] * z};
+}
+
+// One tool-side carriage K (known at compile time, so `nominal` stays in registers). The
+// rotation is split as (R - I)(p0 + d) = (R - I) p0 + (R - I) d: only the second part waits for
+// the deviation of the carriages before, which keeps the chain of dependent operations (the
+// latency of an evaluation) short.
 template <int K>
-[[gnu::always_inline]] inline void toolStep(const EvalPlan& plan, const AngleSet& angles,
+[[gnu::always_inline]] inline void toolStep(const EvalPlan& plan, const Mat3* mats,
                                             const Eigen::Vector3d& q, const MotionValues& v,
                                             double (&nominal)[3], Vec& d) noexcept {
   const double* e = v.data() + 6 * K;
   const double* dme = plan.axes[K].directionMinusUnit.data();
-  const Vec r = rotateDeviation(angles, K, {nominal[0] + d.x, nominal[1] + d.y, nominal[2] + d.z});
-  d.x += r.x + e[0] + q[K] * dme[0];
-  d.y += r.y + e[1] + q[K] * dme[1];
-  d.z += r.z + e[2] + q[K] * dme[2];
+  const Vec fixed = apply(mats[K], nominal[0], nominal[1], nominal[2]);
+  const Vec moving = apply(mats[K], d.x, d.y, d.z);
+  d.x += moving.x + (fixed.x + e[0] + q[K] * dme[0]);
+  d.y += moving.y + (fixed.y + e[1] + q[K] * dme[1]);
+  d.z += moving.z + (fixed.z + e[2] + q[K] * dme[2]);
   nominal[K] += q[K];
 }
 
-// One workpiece-side carriage K.
+// One workpiece-side carriage K, split the same way.
 template <int K>
-[[gnu::always_inline]] inline void workpieceStep(const EvalPlan& plan, const AngleSet& angles,
+[[gnu::always_inline]] inline void workpieceStep(const EvalPlan& plan, const Mat3* mats,
                                                  const Eigen::Vector3d& q, const MotionValues& v,
                                                  double (&nominal)[3], Vec& d) noexcept {
   const double* e = v.data() + 6 * K;
   const double* dme = plan.axes[K].directionMinusUnit.data();
   nominal[K] += q[K];
+  const Vec fixed = applyTransposed(mats[K], nominal[0], nominal[1], nominal[2]);
   d.x += q[K] * dme[0] - e[0];
   d.y += q[K] * dme[1] - e[1];
   d.z += q[K] * dme[2] - e[2];
-  const Vec r =
-      inverseRotateDeviation(angles, K, {nominal[0] + d.x, nominal[1] + d.y, nominal[2] + d.z});
-  d.x += r.x;
-  d.y += r.y;
-  d.z += r.z;
+  const Vec moving = applyTransposed(mats[K], d.x, d.y, d.z);
+  d.x += moving.x + fixed.x;
+  d.y += moving.y + fixed.y;
+  d.z += moving.z + fixed.z;
 }
 
 // The chain of one topology: axes A0 A1 A2 are the NT tool-side axes from the frame outward
 // followed by the workpiece-side axes from the frame outward. Tool side first, from the tool
-// inward (H_FT applied to t), then H_FW^-1 from the frame outward (C_Wn^-1 first).
+// inward (H_FT applied to t), then H_FW^-1 from the frame outward (C_Wn^-1 first). Compiled
+// without SLP vectorisation: pairing these scalar steps costs shuffles on the critical path.
 template <int NT, int A0, int A1, int A2>
-Vec chainDeviation(const EvalPlan& plan, const AngleSet& angles, const Eigen::Vector3d& q,
-                   const MotionValues& v, const Eigen::Vector3d& tool) noexcept {
+[[gnu::optimize("no-tree-slp-vectorize")]] Vec chainDeviation(
+    const EvalPlan& plan, const Mat3* mats, const Eigen::Vector3d& q, const MotionValues& v,
+    const Eigen::Vector3d& tool) noexcept {
   double nominal[3] = {tool.x(), tool.y(), tool.z()};
   Vec d{0.0, 0.0, 0.0};
-  if constexpr (NT > 2) toolStep<A2>(plan, angles, q, v, nominal, d);
-  if constexpr (NT > 1) toolStep<A1>(plan, angles, q, v, nominal, d);
-  if constexpr (NT > 0) toolStep<A0>(plan, angles, q, v, nominal, d);
-  if constexpr (NT < 1) workpieceStep<A0>(plan, angles, q, v, nominal, d);
-  if constexpr (NT < 2) workpieceStep<A1>(plan, angles, q, v, nominal, d);
-  if constexpr (NT < 3) workpieceStep<A2>(plan, angles, q, v, nominal, d);
+  if constexpr (NT > 2) toolStep<A2>(plan, mats, q, v, nominal, d);
+  if constexpr (NT > 1) toolStep<A1>(plan, mats, q, v, nominal, d);
+  if constexpr (NT > 0) toolStep<A0>(plan, mats, q, v, nominal, d);
+  if constexpr (NT < 1) workpieceStep<A0>(plan, mats, q, v, nominal, d);
+  if constexpr (NT < 2) workpieceStep<A1>(plan, mats, q, v, nominal, d);
+  if constexpr (NT < 3) workpieceStep<A2>(plan, mats, q, v, nominal, d);
   return d;
 }
 
-using ChainFunction = Vec (*)(const EvalPlan&, const AngleSet&, const Eigen::Vector3d&,
+using ChainFunction = Vec (*)(const EvalPlan&, const Mat3*, const Eigen::Vector3d&,
                               const MotionValues&, const Eigen::Vector3d&) noexcept;
 
 // Indexed by [NT][permutation], permutation = 2 A0 + (A1 < A0 ? A1 : A1 - 1).
@@ -301,10 +298,10 @@ constexpr std::array<std::array<ChainFunction, 6>, 4> kChains = {kChainsWith<0>,
 //   x - e + q d = (x0 + q e_K) + D,  D = dx - e + q (d - e_K),
 //   R^T (x0 + q e_K + D) = (x0 + q e_K) + [D + (R^T - I)(x0 + q e_K + D)].
 // The nominal result is q + t (and -w on both), so E is the final deviation.
-[[gnu::always_inline]] inline Vec positionDeviation(const EvalPlan& plan, const AngleSet& angles,
+[[gnu::always_inline]] inline Vec positionDeviation(const EvalPlan& plan, const Mat3* mats,
                                                     const Eigen::Vector3d& q, const MotionValues& v,
                                                     const Eigen::Vector3d& tool) noexcept {
-  return kChains[plan.toolCount][plan.chainPermutation](plan, angles, q, v, tool);
+  return kChains[plan.toolCount][plan.chainPermutation](plan, mats, q, v, tool);
 }
 
 // R = Rz(c) Ry(b) Rx(a) of carriage k from the sines and cosines the position already needed.
@@ -347,7 +344,9 @@ Eigen::Vector3d angularError(const EvalPlan& plan, const AngleSet& angles) noexc
                                                             const MotionValues& values,
                                                             const Eigen::Vector3d& tool) noexcept {
   computeAngles(values, angles);
-  const Vec d = positionDeviation(plan, angles, q, values, tool);
+  Mat3 mats[3];
+  for (int k = 0; k < 3; ++k) mats[k] = carriageMinusIdentity(angles, k);
+  const Vec d = positionDeviation(plan, mats, q, values, tool);
   Eigen::Vector3d error(d.x, d.y, d.z);
   for (const Grid& grid : model.grids()) error[grid.component()] += grid.valueMm(q.data());
   return error;

@@ -131,7 +131,12 @@ void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::stri
 
 bool Daemon::cycle() {
   const CycleReport report = loop_.step();
-  if (report.stateChanged() || report.fault != lastLoggedFault_) logReport(report);
+  if (report.stateChanged() || report.fault != lastLoggedFault_) {
+    logReport(report);
+  } else if (report.state == LoopState::LinkLost && report.error) {
+    // At most one per backoff step (100 ms .. 2 s), so not a per-cycle line.
+    spdlog::debug("reconnect failed: {}", report.error.message());
+  }
   if (report.goodCycle && !ready_) {
     ready_ = true;
     notifier_.notify("READY=1");

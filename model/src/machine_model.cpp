@@ -404,6 +404,19 @@ const Eigen::Vector3d& MachineModel::axisDirection(Axis axis) const noexcept {
   return direction_[static_cast<int>(axis)];
 }
 
+namespace {
+
+// Two lanes of c0 + c1 t + c2 t^2 + c3 t^3 for a group of six interleaved tables (c points at
+// c0 of the lane pair; the powers are 6 apart), in Estrin's form (c0 + c1 t) + t^2 (c2 + c3 t):
+// two independent halves, so a shorter chain of dependent operations than Horner's.
+[[gnu::always_inline]] inline detail::Double2 cubic6(const double* c, detail::Double2 t,
+                                                     detail::Double2 t2) noexcept {
+  return (detail::load2(c) + t * detail::load2(c + 6)) +
+         t2 * (detail::load2(c + 12) + t * detail::load2(c + 18));
+}
+
+}  // namespace
+
 std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qMm,
                             const Directions& directions, MotionValues& values) noexcept {
   const EvalPlan& plan = detail::PlanAccess::plan(model);
@@ -433,12 +446,8 @@ std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qM
       const int i = std::min(static_cast<int>(scaled), grid.count - 2);
       const detail::Double2 tt = detail::splat2(scaled - i);
       const double* c = group.coefficients[curve] + 24 * i;
-      for (int e = 0; e < 6; e += 2) {
-        detail::store2(
-            out + e, detail::load2(c + e) +
-                         tt * (detail::load2(c + 6 + e) +
-                               tt * (detail::load2(c + 12 + e) + tt * detail::load2(c + 18 + e))));
-      }
+      const detail::Double2 t2 = tt * tt;
+      for (int e = 0; e < 6; e += 2) detail::store2(out + e, cubic6(c + e, tt, t2));
       continue;
     }
     if (!axis.allTabulated) std::memcpy(out, axis.constants.data(), sizeof axis.constants);
@@ -452,12 +461,8 @@ std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qM
         // The common case (every component of the axis tabulated over the same positions): six
         // contiguous coefficients per power, a fixed-length loop the compiler can vectorise.
         const detail::Double2 tt = detail::splat2(t);
-        for (int e = 0; e < 6; e += 2) {
-          detail::store2(
-              out + e, detail::load2(c + e) +
-                           tt * (detail::load2(c + 6 + e) + tt * (detail::load2(c + 12 + e) +
-                                                                  tt * detail::load2(c + 18 + e))));
-        }
+        const detail::Double2 t2 = tt * tt;
+        for (int e = 0; e < 6; e += 2) detail::store2(out + e, cubic6(c + e, tt, t2));
       } else {
         for (int e = 0; e < n; ++e) {
           out[group.slots[e]] = c[e] + t * (c[n + e] + t * (c[2 * n + e] + t * c[3 * n + e]));

@@ -74,13 +74,15 @@ Command parseCommand(std::string_view text) {
     c.kind = name == "enable" ? Command::Kind::Enable : Command::Kind::Homed;
     if (w.size() != 2) throw std::invalid_argument(name + " needs on or off");
     c.on = parseOnOff(w[1]);
-  } else if (name == "resume" || name == "quit") {
-    c.kind = name == "resume" ? Command::Kind::Resume : Command::Kind::Quit;
+  } else if (name == "resume" || name == "quit" || name == "status") {
+    c.kind = name == "resume" ? Command::Kind::Resume
+             : name == "quit" ? Command::Kind::Quit
+                              : Command::Kind::Status;
     if (w.size() != 1) throw std::invalid_argument(name + " takes no argument");
   } else {
     throw std::invalid_argument("unknown command \"" + name +
                                 "\"; expected stall, drop-link, exception, freeze, hold, enable, "
-                                "homed, resume or quit");
+                                "homed, resume, status or quit");
   }
   return c;
 }
@@ -125,6 +127,8 @@ bool applyCommand(Machine& machine, double tS, const Command& c) {
       break;
     case Command::Kind::Resume:
       machine.resume();
+      break;
+    case Command::Kind::Status:
       break;
     case Command::Kind::Quit:
       return false;

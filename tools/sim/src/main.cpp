@@ -201,7 +201,12 @@ int main(int argc, char** argv) {
     for (const std::string& line : stdinCommands.poll()) {
       if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
       try {
-        running = sim::applyCommand(*machine, t, sim::parseCommand(line)) && running;
+        const sim::Command command = sim::parseCommand(line);
+        if (command.kind == sim::Command::Kind::Status) {
+          std::cout << "STATUS " << machine->report(t).dump() << std::endl;
+          continue;
+        }
+        running = sim::applyCommand(*machine, t, command) && running;
         std::cerr << "volcomp-sim: t=" << t << " s: " << line << '\n';
       } catch (const std::invalid_argument& e) {
         std::cerr << "volcomp-sim: " << e.what() << '\n';

@@ -134,8 +134,10 @@ void ModbusServer::closeListener() noexcept {
 void ModbusServer::runTcp() noexcept {
   while (!stopping_) {
     if (machine_.transportFault(now_()).linkDown) {
-      closeClient();
+      // Listener first: a client that sees its connection reset must find the port refusing,
+      // not a backlog that is about to be discarded.
       closeListener();
+      closeClient();
       pollfd none{};
       ::poll(&none, 0, kPollMs);
       continue;

@@ -9,6 +9,7 @@
 ///   enable on|off        the compensation enable input
 ///   homed on|off         the homed input
 ///   resume               end stall, drop-link, exception, freeze and hold
+///   status               print "STATUS " and the report so far (one line) on stdout
 ///   quit                 end the run now (report and exit)
 
 #include <optional>
@@ -20,7 +21,7 @@
 namespace volcomp::sim {
 
 struct Command {
-  enum class Kind { Stall, DropLink, Exception, Freeze, Hold, Enable, Homed, Resume, Quit };
+  enum class Kind { Stall, DropLink, Exception, Freeze, Hold, Enable, Homed, Resume, Status, Quit };
   Kind kind = Kind::Resume;
   double durationS = 0.0;
   int exceptionCode = 0;
@@ -39,7 +40,7 @@ struct ScheduledEvent {
 /// Parses "T:COMMAND[:ARG...]", e.g. "2.5:drop-link:1" or "4:enable:off".
 ScheduledEvent parseEvent(std::string_view spec);
 
-/// Applies a command to the machine at time t. Returns false for quit.
+/// Applies a command to the machine at time t. Returns false for quit; status is the caller's.
 bool applyCommand(Machine& machine, double tS, const Command& command);
 
 }  // namespace volcomp::sim

@@ -147,7 +147,7 @@ std::shared_ptr<const EvalPlan> buildPlan(
 }
 
 // sin and cos - 1 of the nine error angles (EA, EB, EC of X, Y, Z, at 3 k + 0, 1, 2; lane 9 is
-// padding), for the position; the exact angular error adds their half-angle ones.
+// padding), from which every carriage rotation is built: no library trigonometry per point.
 struct AngleSet {
   alignas(16) double s[10];  // sin(x)
   alignas(16) double m[10];  // cos(x) - 1
@@ -159,10 +159,14 @@ struct AngleSet {
                                                   double* m) noexcept {
   using detail::Double2;
   using detail::splat2;
+  // Split into independent halves (Estrin) so the chain of dependent operations stays short:
+  // sin = x + x^3 (-1/6) + x^5 (1/120 - x^2/5040), cos - 1 = x^2 (-1/2) + x^4 (1/24 - x^2/720).
   const Double2 v2 = v * v;
+  const Double2 v3 = v * v2;
+  const Double2 v4 = v2 * v2;
   const Double2 sv =
-      v + v * v2 * (splat2(-1.0 / 6) + v2 * (splat2(1.0 / 120) + v2 * splat2(-1.0 / 5040)));
-  const Double2 mv = v2 * (splat2(-0.5) + v2 * (splat2(1.0 / 24) + v2 * splat2(-1.0 / 720)));
+      (v + v3 * splat2(-1.0 / 6)) + (v3 * v2) * (splat2(1.0 / 120) + v2 * splat2(-1.0 / 5040));
+  const Double2 mv = v2 * splat2(-0.5) + v4 * (splat2(1.0 / 24) + v2 * splat2(-1.0 / 720));
   detail::store2(s, sv);
   detail::store2(m, mv);
 }
@@ -207,9 +211,10 @@ struct Mat3 {
   const double sa = t.s[i], sb = t.s[i + 1], sc = t.s[i + 2];
   const double ma = t.m[i], mb = t.m[i + 1], mc = t.m[i + 2];
   const double ca = 1.0 + ma, cb = 1.0 + mb, cc = 1.0 + mc;
-  return {{mc + mb + mc * mb, cc * sb * sa - sc * ca, cc * sb * ca + sc * sa,  //
-           sc * cb, sc * sb * sa + mc + ma + mc * ma, sc * sb * ca - cc * sa,  //
-           -sb, cb * sa, mb + ma + mb * ma}};
+  const double sbsa = sb * sa, sbca = sb * ca;
+  return {{(mc + mb) + mc * mb, cc * sbsa - sc * ca, cc * sbca + sc * sa,    //
+           sc * cb, sc * sbsa + ((mc + ma) + mc * ma), sc * sbca - cc * sa,  //
+           -sb, cb * sa, (mb + ma) + mb * ma}};
 }
 
 [[gnu::always_inline]] inline Vec apply(const Mat3& m, double x, double y, double z) noexcept {
@@ -223,6 +228,17 @@ struct Mat3 {
           m.a[2] * x + m.a[5] * y + m.a[8] * z};
 }
 
+// d + m d + c, grouped so that the terms waiting for d take three dependent additions.
+[[gnu::always_inline]] inline Vec step(const Mat3& m, const Vec& d, const Vec& c) noexcept {
+  return {(m.a[0] * d.x + m.a[1] * d.y) + (m.a[2] * d.z + (d.x + c.x)),
+          (m.a[3] * d.x + m.a[4] * d.y) + (m.a[5] * d.z + (d.y + c.y)),
+          (m.a[6] * d.x + m.a[7] * d.y) + (m.a[8] * d.z + (d.z + c.z))};
+}
+
+[[gnu::always_inline]] inline Mat3 transposed(const Mat3& m) noexcept {
+  return {{m.a[0], m.a[3], m.a[6], m.a[1], m.a[4], m.a[7], m.a[2], m.a[5], m.a[8]}};
+}
+
 // One tool-side carriage K (known at compile time, so `nominal` stays in registers). The
 // rotation is split as (R - I)(p0 + d) = (R - I) p0 + (R - I) d: only the second part waits for
 // the deviation of the carriages before, which keeps the chain of dependent operations (the
@@ -234,10 +250,9 @@ template <int K>
   const double* e = v.data() + 6 * K;
   const double* dme = plan.axes[K].directionMinusUnit.data();
   const Vec fixed = apply(mats[K], nominal[0], nominal[1], nominal[2]);
-  const Vec moving = apply(mats[K], d.x, d.y, d.z);
-  d.x += moving.x + (fixed.x + e[0] + q[K] * dme[0]);
-  d.y += moving.y + (fixed.y + e[1] + q[K] * dme[1]);
-  d.z += moving.z + (fixed.z + e[2] + q[K] * dme[2]);
+  const Vec c{fixed.x + e[0] + q[K] * dme[0], fixed.y + e[1] + q[K] * dme[1],
+              fixed.z + e[2] + q[K] * dme[2]};
+  d = step(mats[K], d, c);
   nominal[K] += q[K];
 }
 
@@ -250,13 +265,10 @@ template <int K>
   const double* dme = plan.axes[K].directionMinusUnit.data();
   nominal[K] += q[K];
   const Vec fixed = applyTransposed(mats[K], nominal[0], nominal[1], nominal[2]);
-  d.x += q[K] * dme[0] - e[0];
-  d.y += q[K] * dme[1] - e[1];
-  d.z += q[K] * dme[2] - e[2];
-  const Vec moving = applyTransposed(mats[K], d.x, d.y, d.z);
-  d.x += moving.x + fixed.x;
-  d.y += moving.y + fixed.y;
-  d.z += moving.z + fixed.z;
+  const Vec c{q[K] * dme[0] - e[0], q[K] * dme[1] - e[1], q[K] * dme[2] - e[2]};
+  // D = d + c, then D + (R^T - I) D + fixed, i.e. step(M^T, D, fixed); d + c is formed first
+  // because everything after it depends on it.
+  d = step(transposed(mats[K]), {d.x + c.x, d.y + c.y, d.z + c.z}, fixed);
 }
 
 // The chain of one topology: axes A0 A1 A2 are the NT tool-side axes from the frame outward

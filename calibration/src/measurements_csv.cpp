@@ -35,8 +35,10 @@ std::string linePath(int line) {
 }
 
 bool isKnownColumn(const std::string& name) {
-  static const std::vector<std::string> known{"x",  "y",  "z",  "ex", "ey", "ez",    "tx",
-                                              "ty", "tz", "ea", "eb", "ec", "weight"};
+  // ox,oy,oz (compensation offsets in `volcomp eval --points` output) are accepted and ignored,
+  // so that eval's output can be fed back for round trips.
+  static const std::vector<std::string> known{"x",  "y",  "z",  "ex", "ey", "ez", "tx", "ty",
+                                              "tz", "ea", "eb", "ec", "ox", "oy", "oz", "weight"};
   for (const std::string& k : known) {
     if (k == name) return true;
   }
@@ -79,7 +81,7 @@ MeasurementSet parseMeasurementsCsv(std::istream& input, const std::string& file
           throw ConfigError(file, linePath(lineNumber),
                             "unknown column \"" + name +
                                 "\" (expected x,y,z,ex,ey,ez and optionally tx,ty,tz, ea,eb,ec, "
-                                "weight, q1..q9)");
+                                "weight, q1..q9; ox,oy,oz are ignored)");
         }
         if (!column.emplace(name, c).second) {
           throw ConfigError(file, linePath(lineNumber), "column \"" + name + "\" appears twice");

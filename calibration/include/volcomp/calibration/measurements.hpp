@@ -6,6 +6,7 @@
 ///   ea,eb,ec     measured angular error, rotation vector (rad)          optional (all three)
 ///   weight       relative weight (> 0) of the point, 1 by default       optional
 ///   q1..q9       joint values of a D-H chain (mm, revolute in deg)      optional, D-H chains only
+///   ox,oy,oz     ignored (so that `volcomp eval --points` output can be read back)
 /// For a D-H chain with 3 joints x,y,z are the joint values when no q columns are given.
 /// Empty lines and lines starting with '#' are skipped. Every error names the file, the line and
 /// the column (throws config::ConfigError with key path "line N" or "line N, column NAME").

@@ -118,8 +118,8 @@ class MachineModel {
 /// values in registers).
 struct Workspace {
   MotionValues motion{};
-  std::array<Eigen::Matrix3d, 3> rotation;       ///< error rotation of each axis' carriage
-  std::array<Eigen::Vector3d, 3> translationMm;  ///< carriage translation incl. q d_K and E_K
+  std::array<Eigen::Matrix3d, 3> rotation;       ///< reserved scratch (see above)
+  std::array<Eigen::Vector3d, 3> translationMm;  ///< reserved scratch (see above)
 };
 
 /// Evaluate the 18 motion-error functions at q (clamped to travel), writing `values`.

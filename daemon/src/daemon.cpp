@@ -192,6 +192,10 @@ std::string Daemon::statusLine() const {
       loop_.counters().faultCycles, scheduler_.overruns(), loop_.counters().linkLosses,
       loop_.model().name());
   if (!reloadError_.empty()) line += ", reload failed: " + reloadError_;
+  // One line: a newline would start a new sd_notify assignment.
+  for (char& c : line) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
   return line;
 }
 

@@ -273,12 +273,10 @@ template <int K>
 
 // The chain of one topology: axes A0 A1 A2 are the NT tool-side axes from the frame outward
 // followed by the workpiece-side axes from the frame outward. Tool side first, from the tool
-// inward (H_FT applied to t), then H_FW^-1 from the frame outward (C_Wn^-1 first). Compiled
-// without SLP vectorisation: pairing these scalar steps costs shuffles on the critical path.
+// inward (H_FT applied to t), then H_FW^-1 from the frame outward (C_Wn^-1 first).
 template <int NT, int A0, int A1, int A2>
-[[gnu::optimize("no-tree-slp-vectorize")]] Vec chainDeviation(
-    const EvalPlan& plan, const Mat3* mats, const Eigen::Vector3d& q, const MotionValues& v,
-    const Eigen::Vector3d& tool) noexcept {
+Vec chainDeviation(const EvalPlan& plan, const Mat3* mats, const Eigen::Vector3d& q,
+                   const MotionValues& v, const Eigen::Vector3d& tool) noexcept {
   double nominal[3] = {tool.x(), tool.y(), tool.z()};
   Vec d{0.0, 0.0, 0.0};
   if constexpr (NT > 2) toolStep<A2>(plan, mats, q, v, nominal, d);

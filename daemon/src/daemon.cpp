@@ -50,7 +50,8 @@ Daemon::~Daemon() {
 
 void Daemon::start() {
   watchdog_ = notifier_.watchdogInterval();
-  lastStatus_ = clock_.now();
+  startTime_ = clock_.now();
+  lastStatus_ = startTime_;
   spdlog::info(
       "starting: model '{}', transport {}, cycle {} ms, position semantics {}",
       loop_.model().name(), config_.transportType, config_.cyclePeriodMs,
@@ -220,6 +221,13 @@ void Daemon::notifyPeriodic(Clock::time_point now) {
       overrunsAtLastStatus_ = overruns;
     }
     notifier_.notify("STATUS=" + statusLine());
+    if (loop_.state() == LoopState::Starting && loop_.settings().offsetReadback &&
+        !warnedStarting_ && now - startTime_ >= std::chrono::seconds(5)) {
+      warnedStarting_ = true;
+      spdlog::warn(
+          "still starting after 5 s: connected, but no applied offsets read back; map the "
+          "applied-offset registers or set offset_readback false with plc_zero_after_ms");
+    }
   }
 }
 

@@ -88,6 +88,8 @@ class Daemon {
   std::optional<std::chrono::microseconds> watchdog_;
   Clock::time_point lastWatchdog_{};
   Clock::time_point lastStatus_{};
+  Clock::time_point startTime_{};
+  bool warnedStarting_ = false;
   std::uint64_t cyclesAtLastStatus_ = 0;
   std::uint64_t overrunsAtLastStatus_ = 0;
   double cycleRateHz_ = 0.0;

@@ -124,6 +124,7 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
   lastSequence_ = sample_.sequence;
   lastPositionMm_ = sample_.positionMm;
   fault_ = FaultCode::None;
+  lastWriteFailed_ = false;  // a failure before the resynchronisation says nothing about now
   synced_ = true;
   return true;
 }

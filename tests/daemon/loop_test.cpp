@@ -313,6 +313,19 @@ TEST_F(LoopTest, LinkLossReconnectsWithBoundedBackoffAndContinuesFromReadBack) {
   EXPECT_EQ(loop->counters().reconnects, 1u);
 }
 
+TEST_F(LoopTest, FailedWriteBeforeALinkLossDoesNotFaultAfterReconnecting) {
+  make();
+  cycle();
+  port.writeError = std::make_error_code(std::errc::timed_out);
+  cycle();
+  port.writeError = {};
+  port.dropLink();
+  cycle();  // link lost
+  for (int i = 0; i < 10; ++i) cycle();  // reconnect after 100 ms
+  EXPECT_EQ(loop->state(), LoopState::Active);
+  EXPECT_EQ(loop->fault(), FaultCode::None);
+}
+
 TEST_F(LoopTest, LinkErrorOnWriteEntersLinkLost) {
   make();
   cycle();

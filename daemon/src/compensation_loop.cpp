@@ -209,6 +209,8 @@ CycleReport CompensationLoop::step() noexcept {
     // Nothing can be written without the link; the PLC drops the offsets on the stalled
     // heartbeat, so a stop does not wait for a reconnection.
     if (stopRequested_) return finish();
+    // The driver closed the link between cycles: same as a link error (counted, backoff).
+    if (everConnected_ && state_ != LoopState::LinkLost) enterLinkLost(now, report);
     if (!tryConnect(now, report)) {
       report.state = state_;
       return report;

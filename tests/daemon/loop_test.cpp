@@ -320,8 +320,10 @@ TEST_F(LoopTest, FailedWriteBeforeALinkLossDoesNotFaultAfterReconnecting) {
   cycle();
   port.writeError = {};
   port.dropLink();
-  cycle();  // link lost
+  EXPECT_EQ(cycle().state, LoopState::LinkLost);
   for (int i = 0; i < 10; ++i) cycle();  // reconnect after 100 ms
+  EXPECT_EQ(loop->counters().linkLosses, 1u);
+  EXPECT_EQ(loop->counters().reconnects, 1u);
   EXPECT_EQ(loop->state(), LoopState::Active);
   EXPECT_EQ(loop->fault(), FaultCode::None);
 }

@@ -222,6 +222,28 @@ TEST_F(ModbusE2e, LinkDropReconnectsAndContinuesWithoutAJump) {
   EXPECT_EQ(daemon_->waitExit(10s), 0) << daemonLog();
 }
 
+TEST_F(ModbusE2e, ExceptionRepliesAndAStalledControllerAreSurvivedWithinTheLimits) {
+  // 1.5-2.0 s every request gets exception 4; 2.5-3.0 s the controller does not answer (three
+  // 50 ms timeouts in a row: the driver reports link loss and the daemon reconnects).
+  const auto where = startSim(simConfig(), {"--port", "0", "--duration", "5", "--event",
+                                            "1.5:exception:4:0.5", "--event", "2.5:stall:0.5"});
+  ASSERT_EQ(where.size(), 3U);
+  json transport = example("volcompd-modbus-tcp.json")["transport"];
+  transport["port"] = std::stoi(where[2]);
+  startDaemon(daemonConfig(transport));
+  const json report = simReport();
+  ASSERT_TRUE(report.is_object());
+  EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
+  EXPECT_EQ(report["partial_writes"], 0);
+  EXPECT_GT(report["exceptions_sent"].get<int>(), 0);
+  EXPECT_GT(report["requests_unanswered"].get<int>(), 0);
+  const auto rows = records();
+  ASSERT_FALSE(rows.empty());
+  EXPECT_GT(rows.back()[0], 4.0) << "the daemon writes again after both faults";
+  daemon_->signal(SIGTERM);
+  EXPECT_EQ(daemon_->waitExit(10s), 0) << daemonLog();
+}
+
 TEST_F(ModbusE2e, ActualPositionSemanticsCompensateWithoutFeedback) {
   json sim = simConfig();
   sim["position_semantics"] = "actual";

@@ -153,6 +153,10 @@ int main(int argc, char** argv) {
       std::string why;
       if (!pathInsideTravel(path, travel, why)) throw config::ConfigError(configFile, "path", why);
     }
+    if (!cfg.modbus) {
+      throw config::ConfigError(configFile, "transport.type",
+                                "this volcomp-sim serves Modbus only (modbus-tcp, modbus-rtu)");
+    }
     machine.emplace(std::move(path), std::move(trueError), cfg.machine);
   } catch (const std::exception& e) {
     std::cerr << "volcomp-sim: " << e.what() << '\n';
@@ -164,17 +168,18 @@ int main(int argc, char** argv) {
   auto now = [start] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
-  sim::ModbusServer server(cfg.transport.registers, cfg.transport.slaveId, *machine, now);
+  const config::ModbusConfig& modbusConfig = *cfg.modbus;
+  sim::ModbusServer server(modbusConfig.registers, modbusConfig.slaveId, *machine, now);
   try {
     const bool serveRtu =
-        rtu || (!tcp && std::holds_alternative<config::RtuLink>(cfg.transport.link));
+        rtu || (!tcp && std::holds_alternative<config::RtuLink>(modbusConfig.link));
     if (serveRtu) {
       server.startRtu();
     } else {
       std::uint16_t p = 0;
       if (port) {
         p = static_cast<std::uint16_t>(*port);
-      } else if (const auto* t = std::get_if<config::TcpLink>(&cfg.transport.link)) {
+      } else if (const auto* t = std::get_if<config::TcpLink>(&modbusConfig.link)) {
         p = t->port;
       }
       server.startTcp(p);

@@ -73,8 +73,13 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
   c.machine.settleS = root.numberOr("settle_ms", 0.0) / 1000.0;
   if (c.machine.settleS < 0.0) root.at("settle_ms").failExpected(">= 0");
   if (auto v = root.find("tick_ms")) c.tickS = v->number(0.1, 1000.0) / 1000.0;
-  c.transport = config::parseModbusConfig(root.at("transport").json(), file, "transport");
-  c.machine.limits.quantumMm = offsetQuantumMm(c.transport.registers);
+  const JsonReader transport = root.at("transport");
+  c.transportType = transport.at("type").oneOf({"modbus-tcp", "modbus-rtu", "can"});
+  c.transport = transport.json();
+  if (c.transportType != "can") {
+    c.modbus = config::parseModbusConfig(c.transport, file, "transport");
+    c.machine.limits.quantumMm = offsetQuantumMm(c.modbus->registers);
+  }
   return c;
 }
 

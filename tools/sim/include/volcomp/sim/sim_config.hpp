@@ -16,7 +16,8 @@
 ///     "initial_offset_mm": [0, 0, 0],      offsets applied at start (left from an earlier run)
 ///     "settle_ms": 0,                      statistics start this long after the first write
 ///     "tick_ms": 1,                        sampling period of the error statistics
-///     "transport": { the Modbus transport section, as in the daemon's configuration }
+///     "transport": { the transport section, as in the daemon's configuration: "modbus-tcp",
+///                    "modbus-rtu" (parsed here) or "can" (kept raw for the CAN node) }
 ///   }
 /// The limits should be the daemon's limiter settings: the simulator checks every write with them.
 
@@ -49,7 +50,10 @@ struct SimConfig {
   PathSpec path;
   MachineOptions machine;
   double tickS = 0.001;
-  config::ModbusConfig transport;
+  std::string transportType;  ///< "modbus-tcp", "modbus-rtu" or "can"
+  nlohmann::json transport;   ///< the whole section (key paths start at "transport")
+  /// The parsed Modbus section (modbus-tcp / modbus-rtu only).
+  std::optional<config::ModbusConfig> modbus;
 };
 
 /// Throws config::ConfigError (file, key path, what was expected).

@@ -1,0 +1,89 @@
+#include "volcomp/sim/sim_config.hpp"
+
+#include <fstream>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "volcomp/config/daemon_config.hpp"
+#include "volcomp/config/json_reader.hpp"
+
+namespace volcomp::sim {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+const std::string kExamples = VOLCOMP_EXAMPLES_DIR;
+
+json example(const std::string& name) {
+  return json::parse(std::ifstream(kExamples + "/" + name));
+}
+
+void expectRejected(const json& doc, const std::string& keyPath, const std::string& message) {
+  try {
+    parseSimConfig(doc, "sim.json");
+    FAIL() << "accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.keyPath(), keyPath) << e.what();
+    EXPECT_THAT(e.message(), HasSubstr(message)) << e.what();
+  }
+}
+
+TEST(SimConfig, TheExampleMatchesTheDaemonExample) {
+  const SimConfig sim = loadSimConfig(kExamples + "/sim-vmc.json");
+  const config::DaemonConfig daemon =
+      config::loadDaemonConfig(kExamples + "/volcompd-modbus-tcp.json");
+  ASSERT_TRUE(sim.modbus.has_value());
+  EXPECT_EQ(sim.transportType, "modbus-tcp");
+  EXPECT_EQ(sim.transport, daemon.transport) << "the same transport section on both sides";
+  EXPECT_EQ(sim.machine.limits.maxOffsetMm, daemon.limiter.maxOffsetMm);
+  EXPECT_EQ(sim.machine.limits.maxRateMmS, daemon.limiter.maxRateMmS);
+  EXPECT_DOUBLE_EQ(sim.machine.limits.cycleS * 1000.0, daemon.cyclePeriodMs);
+  EXPECT_EQ(sim.machine.semantics, daemon.positionSemantics);
+  // int32 at 10000 counts/mm: one count is 0.1 um.
+  EXPECT_DOUBLE_EQ(sim.machine.limits.quantumMm[0], 1e-4);
+  ASSERT_TRUE(sim.modelPath.has_value());
+  EXPECT_EQ(*sim.modelPath, kExamples + "/vmc-xyfz-21-true.json");
+  const Path path = makePath(sim.path);
+  EXPECT_GT(path.lengthMm(), 0.0);
+  // The RTU example carries the same register map.
+  const config::DaemonConfig rtu =
+      config::loadDaemonConfig(kExamples + "/volcompd-modbus-rtu.json");
+  EXPECT_EQ(rtu.transport["registers"], daemon.transport["registers"]);
+}
+
+TEST(SimConfig, PathKindsAndRejections) {
+  json doc = example("sim-vmc.json");
+  doc["path"] = {{"type", "points"}, {"points", {{0, 0, 0}, {10, 0, 0}}}, {"feed_mm_min", 600}};
+  EXPECT_DOUBLE_EQ(makePath(parseSimConfig(doc, "sim.json").path).lengthMm(), 20.0);
+
+  doc["path"] = {{"type", "spiral"}, {"feed_mm_min", 600}};
+  expectRejected(doc, "path.type", "raster");
+  doc["path"] = {{"type", "circle"}, {"center", {0, 0}}, {"radius_mm", 5}, {"feed_mm_min", 600}};
+  expectRejected(doc, "path.center", "");
+  doc["path"] = {{"type", "circle"}, {"center", {0, 0, 0}}, {"radius_mm", 5}, {"feed_mm_min", 0}};
+  expectRejected(doc, "path.feed_mm_min", "");
+
+  doc = example("sim-vmc.json");
+  doc["limits"]["max_jerk"] = 1;
+  expectRejected(doc, "limits.max_jerk", "unknown key");
+  doc = example("sim-vmc.json");
+  doc["position_semantics"] = "programmed";
+  expectRejected(doc, "position_semantics", "commanded");
+  doc = example("sim-vmc.json");
+  doc["transport"]["registers"]["status"] = 3;
+  expectRejected(doc, "transport.registers.status", "overlaps");
+}
+
+TEST(SimConfig, CanTransportIsKeptRawForTheCanNode) {
+  json doc = example("sim-vmc.json");
+  doc["transport"] = {{"type", "can"}, {"interface", "vcan0"}};
+  const SimConfig c = parseSimConfig(doc, "sim.json");
+  EXPECT_EQ(c.transportType, "can");
+  EXPECT_FALSE(c.modbus.has_value());
+  EXPECT_EQ(c.transport["interface"], "vcan0");
+}
+
+}  // namespace
+}  // namespace volcomp::sim

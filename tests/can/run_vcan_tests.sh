@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Runs the SocketCAN test executable on a real (virtual) CAN interface.
 #
-#   run_vcan_tests.sh [--cache DIR] [--mode auto|direct|qemu] [--timeout SECONDS] TEST_EXE [ARGS...]
+#   run_vcan_tests.sh [--cache DIR] [--mode auto|direct|qemu] [--timeout SECONDS] [--data DIR]
+#                     TEST_EXE [ARGS...]
 #
+# --data DIR: files the tests read (found through $VOLCOMP_CAN_DATA; copied into the guest).
 # direct: this kernel can create a vcan interface (CAN modules present and CAP_NET_ADMIN): a
 #         uniquely named vcan interface is created, the tests run against it, it is deleted.
 # qemu:   otherwise. Debian's kernel package (linux-image-6.1.0-NN-amd64, NN from
@@ -20,11 +22,13 @@ set -euo pipefail
 cache=""
 mode=auto
 timeout_s=600
+data=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --cache) cache="$2"; shift 2 ;;
     --mode) mode="$2"; shift 2 ;;
     --timeout) timeout_s="$2"; shift 2 ;;
+    --data) data="$(readlink -f "$2")"; shift 2 ;;
     --) shift; break ;;
     -*) echo "run_vcan_tests: unknown option $1" >&2; exit 2 ;;
     *) break ;;
@@ -46,7 +50,7 @@ run_direct() {
   echo "run_vcan_tests: running directly on $iface"
   ip link set up "$iface"
   local rc=0
-  VOLCOMP_CAN_IFACE="$iface" "$test_exe" "$@" || rc=$?
+  VOLCOMP_CAN_IFACE="$iface" VOLCOMP_CAN_DATA="$data" "$test_exe" "$@" || rc=$?
   ip link del "$iface" 2>/dev/null || true
   echo "RC=$rc"
   return "$rc"
@@ -106,7 +110,8 @@ vmlinuz="$(ls -1 "$kdir"/boot/vmlinuz-* | head -n 1)"
 work="$(mktemp -d "$cache/initrd.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
 root="$work/root"
-mkdir -p "$root"/{bin,mod,proc,sys,dev,tmp}
+mkdir -p "$root"/{bin,mod,proc,sys,dev,tmp,data}
+[ -z "$data" ] || cp -r "$data"/. "$root/data/"
 cp "$busybox" "$root/bin/busybox"
 for m in can-dev can can-raw vcan; do
   ko="$(find "$kdir/lib/modules" -name "$m.ko*" | head -n 1)"
@@ -145,7 +150,7 @@ ip link add dev vcan0 type vcan && ip link set up vcan0
 set --
 while IFS= read -r a; do set -- "$@" "$a"; done < /args
 cd /tmp
-VOLCOMP_CAN_IFACE=vcan0 /bin/volcomp-tests "$@"
+VOLCOMP_CAN_IFACE=vcan0 VOLCOMP_CAN_DATA=/data /bin/volcomp-tests "$@"
 echo "RC=$?"
 poweroff -f
 INIT
@@ -153,7 +158,8 @@ chmod +x "$root/init"
 (cd "$root" && find . | "$busybox" cpio -o -H newc 2>/dev/null | gzip -1 > "$work/initrd.gz")
 
 # 3. Boot.
-log="$cache/last-boot.log"
+# One log per test executable, so that parallel CTest runs do not share it.
+log="$cache/last-boot-$(basename "$test_exe").log"
 echo "run_vcan_tests: booting $(basename "$vmlinuz") under QEMU (TCG)"
 start=$(date +%s)
 qrc=0

@@ -49,7 +49,7 @@ class CanUtilsInterop : public ::testing::Test {
         {"interface", test::interfaceName()},
         {"trigger", "broadcast"},
         {"dbc", "machine.dbc"},
-        {"timeouts", {{"stale_ms", 500}}},
+        {"timeouts", {{"stale_ms", 2000}}},
         {"inputs",
          {{"position", {{"X", {{"dbc", "X"}}}, {"Y", {{"dbc", "Y"}}}, {"Z", {{"dbc", "Z"}}}}},
           {"enable", {{"dbc", "Enable"}}},
@@ -86,12 +86,17 @@ TEST_F(CanUtilsInterop, CansendFramesAreUnderstood) {
   EXPECT_TRUE(sample.homed);
   EXPECT_EQ(sample.sequence, 5);
 
-  // The same identifiers as 11-bit frames are other frames: not inputs.
+  // The same identifiers as 11-bit frames are other frames: not inputs (the kernel filter drops
+  // them). A following 29-bit set (sequence 7, enable and homed off) is the next set received.
   ASSERT_EQ(test::run("cansend " + iface + " 100#12D687FFFFFF0006"), 0);
-  ASSERT_EQ(test::run("cansend " + iface + " 101#FFD9DA6000000006"), 0);
-  ASSERT_FALSE(port_->read(sample));
-  EXPECT_EQ(sample.sequence, 5);
-  EXPECT_TRUE(sample.enable);
+  ASSERT_EQ(test::run("cansend " + iface + " 101#FFD9DA60C0000006"), 0);
+  ASSERT_EQ(test::run("cansend " + iface + " 00000100#12D687FFFFFF0007"), 0);
+  ASSERT_EQ(test::run("cansend " + iface + " 00000101#FFD9DA6000000007"), 0);
+  ASSERT_TRUE(test::waitFor([&] { return !port_->read(sample) && sample.sequence == 7; }));
+  EXPECT_FALSE(sample.enable);
+  EXPECT_FALSE(sample.homed);
+  EXPECT_EQ(port_->stats().completeSets, 2u);
+  EXPECT_EQ(port_->stats().framesReceived, 4u);
 }
 
 TEST_F(CanUtilsInterop, WrittenFramesAreDecodedByCandump) {

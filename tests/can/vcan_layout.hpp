@@ -15,7 +15,7 @@ inline nlohmann::json signal(int id, int start, int length, const char* type, do
 ///         0x101 = Z (int32 @0, 0.1 µm), enable (bit 32), homed (bit 33), sequence (uint8 @56).
 /// Outputs: 0x300 = offsets X, Y, Z (int16 @0, @16, @32, 1 µm), status (uint16 @48);
 ///          0x301 = heartbeat (uint8 @0).
-inline nlohmann::json testConfig(const char* trigger = "broadcast", double staleMs = 300.0) {
+inline nlohmann::json testConfig(const char* trigger = "broadcast", double staleMs = 1000.0) {
   nlohmann::json c{{"interface", interfaceName()},
                    {"trigger", trigger},
                    {"timeouts", {{"stale_ms", staleMs}, {"response_ms", 500}}},

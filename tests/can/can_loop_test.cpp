@@ -1,0 +1,183 @@
+// The whole loop over real SocketCAN: the daemon's CompensationLoop with the CAN driver on one
+// side of vcan0, the simulated machine behind a CanSimNode on the other. The simulator's true
+// error model is the daemon's model, so compensation must remove nearly all of the error; every
+// write is checked by the simulator against the limiter settings.
+#include <atomic>
+#include <cstdlib>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <asio/executor_work_guard.hpp>
+#include <asio/post.hpp>
+#include <asio/steady_timer.hpp>
+
+#include "vcan_util.hpp"
+#include "volcomp/can/can_sim_node.hpp"
+#include "volcomp/can/controller_port.hpp"
+#include "volcomp/daemon/compensation_loop.hpp"
+#include "volcomp/daemon/steady_clock.hpp"
+#include "volcomp/sim/machine.hpp"
+#include "volcomp/sim/sim_config.hpp"
+
+namespace volcomp::can {
+namespace {
+
+using namespace std::chrono_literals;
+using nlohmann::json;
+
+json sig(int id, int start, int length, const char* type, double scale) {
+  return {{"id", id}, {"start_bit", start}, {"length", length}, {"type", type}, {"scale", scale}};
+}
+
+/// Inputs: 0x100 X, Y (int28, 0.1 µm) + counter; 0x101 Z (int32) + enable, homed + counter;
+/// 0x102 applied offsets (int16, 0.1 µm) + counter. Outputs: 0x300 offsets (int16, 0.1 µm) +
+/// status; 0x301 heartbeat.
+json loopConfig() {
+  return {{"interface", test::interfaceName()},
+          {"trigger", "broadcast"},
+          {"timeouts", {{"stale_ms", 100}}},
+          {"inputs",
+           {{"position",
+             {{"X", sig(0x100, 0, 28, "signed", 0.0001)},
+              {"Y", sig(0x100, 28, 28, "signed", 0.0001)},
+              {"Z", sig(0x101, 0, 32, "signed", 0.0001)}}},
+            {"enable", sig(0x101, 32, 1, "unsigned", 1)},
+            {"homed", sig(0x101, 33, 1, "unsigned", 1)},
+            {"applied_offset",
+             {{"X", sig(0x102, 0, 16, "signed", 0.0001)},
+              {"Y", sig(0x102, 16, 16, "signed", 0.0001)},
+              {"Z", sig(0x102, 32, 16, "signed", 0.0001)}}},
+            {"sequence",
+             json::array({sig(0x100, 56, 8, "unsigned", 1), sig(0x101, 56, 8, "unsigned", 1),
+                          sig(0x102, 56, 8, "unsigned", 1)})}}},
+          {"outputs",
+           {{"offset",
+             {{"X", sig(0x300, 0, 16, "signed", 0.0001)},
+              {"Y", sig(0x300, 16, 16, "signed", 0.0001)},
+              {"Z", sig(0x300, 32, 16, "signed", 0.0001)}}},
+            {"status", sig(0x300, 48, 16, "unsigned", 1)},
+            {"heartbeat", sig(0x301, 0, 8, "unsigned", 1)}}}};
+}
+
+std::string modelFile() {
+  const char* dir = std::getenv("VOLCOMP_CAN_DATA");
+  return std::string(dir && *dir ? dir : ".") + "/vmc-xyfz-21.json";
+}
+
+TEST(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
+  const auto start = std::chrono::steady_clock::now();
+  auto nowS = [start] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+
+  // The simulated machine: a circle at 3000 mm/min in the middle of the travel.
+  sim::Travel travel;
+  sim::ErrorFunction trueError = sim::loadTrueError(modelFile(), &travel);
+  sim::MachineOptions options;
+  options.semantics = config::PositionSemantics::Commanded;
+  options.limits.maxOffsetMm = 0.5;
+  options.limits.maxRateMmS = 2.0;
+  // The daemon limits the change per cycle with the nominal period; the simulator measures it
+  // with the arrival times it sees, which jitter by up to a period in an emulated guest.
+  options.limits.rateToleranceS = 0.010;
+  options.limits.quantumMm = {0.0001, 0.0001, 0.0001};
+  options.settleS = 1.0;  // the offsets ramp in from zero at max_rate first
+  sim::Machine machine(sim::Path::circle({425.0, 250.0, -250.0}, 150.0, 3000.0), trueError,
+                       options);
+
+  asio::io_context simIo;
+  auto work = asio::make_work_guard(simIo);
+  const CanLayout layout = loadCanLayout(loopConfig(), "can-loop.json", "transport");
+  CanSimNode node(simIo, layout,
+                  {[&](double t) { return machine.inputs(t); },
+                   [&](double t, const daemon::OffsetCommand& c) { machine.onWrite(t, c); }, nowS},
+                  2ms);
+  ASSERT_FALSE(node.start());
+  // The error statistics are sampled every 5 ms on the simulator's thread.
+  asio::steady_timer sampler(simIo);
+  bool sampling = true;  // only touched on the simulator's thread
+  std::function<void()> sampleTick = [&] {
+    sampler.expires_at(sampler.expiry() + 5ms);
+    sampler.async_wait([&](const std::error_code& ec) {
+      // A completion already queued when the timer is cancelled still arrives without error.
+      if (ec || !sampling) return;
+      machine.sample(nowS());
+      sampleTick();
+    });
+  };
+  sampler.expires_at(std::chrono::steady_clock::now());
+  sampleTick();
+  std::thread simThread([&] { simIo.run(); });
+  std::cout << "whole loop: simulator running" << std::endl;
+
+  // The daemon side.
+  daemon::LoopSettings settings;
+  settings.period = 10ms;
+  settings.limiter.maxOffsetMm = 0.5;
+  settings.limiter.maxRateMmS = 2.0;
+  settings.staleTimeout = 200ms;
+  settings.offsetReadback = true;
+  daemon::SteadyClock clock;
+  CanControllerPort port(layout);
+  daemon::CompensationLoop loop(port, clock, daemon::loadCompensationModel(modelFile()), settings);
+  std::uint64_t activeCycles = 0;
+  auto deadline = std::chrono::steady_clock::now();
+  const auto runUntil = deadline + 5s;
+  while (deadline < runUntil) {
+    const daemon::CycleReport report = loop.step();
+    if (report.state == daemon::LoopState::Active) ++activeCycles;
+    deadline += settings.period;
+    std::this_thread::sleep_until(deadline);  // the loop's own period, not test synchronisation
+  }
+  // The error statistics cover compensated running; the stop (offsets ramp out) comes after.
+  const json report = machine.report(nowS());
+  std::cout << "whole loop: " << activeCycles << " active cycles, stopping" << std::endl;
+  loop.requestStop();
+  for (int i = 0; i < 1000 && !loop.finished(); ++i) {
+    loop.step();
+    deadline += settings.period;
+    std::this_thread::sleep_until(deadline);
+  }
+  EXPECT_TRUE(loop.finished());
+  // The simulator's thread may not have taken the last frames off its socket yet.
+  const std::uint64_t sent = port.stats().framesSent;
+  EXPECT_TRUE(test::waitFor([&] {
+    const auto writes = machine.writes();
+    return !writes.empty() && writes.back().status == 0 && 2 * writes.size() >= sent;
+  }));
+
+  const json finalReport = machine.report(nowS());
+  asio::post(simIo, [&] {
+    sampling = false;
+    sampler.cancel();
+    node.stop();
+  });
+  work.reset();
+  simThread.join();
+  std::cout << "whole loop: simulator stopped" << std::endl;
+
+  std::cout << "whole loop over CAN: " << report.dump() << "\n"
+            << "driver: sets " << port.stats().completeSets << ", frames sent "
+            << port.stats().framesSent << ", malformed " << port.stats().malformedFrames
+            << ", dropped " << port.stats().txDropped << "; loop: active cycles " << activeCycles
+            << ", read errors " << loop.counters().readErrors << "\n";
+  const double uncompensated = report["rms_uncompensated_um"];
+  const double compensated = report["rms_compensated_um"];
+  std::cout << "whole loop: RMS " << uncompensated << " -> " << compensated << " um, reduction "
+            << 100.0 * (1.0 - compensated / uncompensated) << " %" << std::endl;
+  ASSERT_GT(uncompensated, 1.0);  // the machine has a real error to remove
+  EXPECT_GE(1.0 - compensated / uncompensated, 0.95)
+      << "RMS " << uncompensated << " -> " << compensated << " µm";
+  EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
+  EXPECT_EQ(report["partial_writes"], 0);
+  EXPECT_EQ(finalReport["limiter_violations"], 0) << finalReport["first_violation"];
+  EXPECT_GT(activeCycles, 300u);
+  // The daemon's last write is zero offsets with status 0 (stopping), and the controller holds it.
+  const auto writes = machine.writes();
+  ASSERT_FALSE(writes.empty());
+  EXPECT_EQ(writes.back().status, 0);
+  for (double o : writes.back().offsetMm) EXPECT_EQ(o, 0.0);
+}
+
+}  // namespace
+}  // namespace volcomp::can

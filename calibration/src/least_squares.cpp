@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
@@ -107,7 +108,7 @@ ResidualStats residualStats(const ResidualProblem& problem, const Eigen::VectorX
 
 // ---- Scaled SVD ---------------------------------------------------------------------------------
 
-ScaledSvd::ScaledSvd(const Eigen::MatrixXd& jacobian, double rankTolerance) {
+ScaledSvd::ScaledSvd(Eigen::MatrixXd jacobian, double rankTolerance) {
   const Eigen::Index m = jacobian.rows();
   const Eigen::Index n = jacobian.cols();
   columnScale = Eigen::VectorXd::Ones(n);
@@ -116,18 +117,20 @@ ScaledSvd::ScaledSvd(const Eigen::MatrixXd& jacobian, double rankTolerance) {
     // A column without effect keeps scale 1: it shows up as a zero singular value and is named.
     if (norm > 0.0 && std::isfinite(norm)) columnScale(j) = 1.0 / norm;
   }
-  const Eigen::MatrixXd scaled = jacobian * columnScale.asDiagonal();
+  jacobian *= columnScale.asDiagonal();
   if (m >= n) {
-    // QR first: the SVD then works on an n x n triangle instead of the tall matrix.
-    qr = Eigen::HouseholderQR<Eigen::MatrixXd>(scaled);
-    const Eigen::MatrixXd r = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
+    // QR first (in place: the matrix is large): the SVD then works on an n x n triangle.
+    factors = std::move(jacobian);
+    Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(factors);
+    householderCoefficients = qr.hCoeffs();
+    const Eigen::MatrixXd r = factors.topRows(n).triangularView<Eigen::Upper>();
     Eigen::BDCSVD<Eigen::MatrixXd> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
     singularValues = svd.singularValues();
     uSmall = svd.matrixU();
     v = svd.matrixV();
     tall = true;
   } else {
-    Eigen::BDCSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeFullU | Eigen::ComputeFullV);
     singularValues = Eigen::VectorXd::Zero(n);
     singularValues.head(svd.singularValues().size()) = svd.singularValues();
     uSmall = svd.matrixU();
@@ -145,7 +148,9 @@ Eigen::VectorXd ScaledSvd::projectResiduals(const Eigen::VectorXd& residuals) co
   // U_k^T r, with U = Q [U_R; 0] for the tall case.
   if (tall) {
     Eigen::VectorXd qtr = residuals;
-    qtr.applyOnTheLeft(qr.householderQ().adjoint());
+    const Eigen::HouseholderSequence<Eigen::MatrixXd, Eigen::VectorXd> q(factors,
+                                                                         householderCoefficients);
+    qtr.applyOnTheLeft(q.transpose());
     return uSmall.leftCols(rank).transpose() * qtr.head(uSmall.rows());
   }
   return uSmall.leftCols(rank).transpose() * residuals;
@@ -226,8 +231,7 @@ std::string describe(const std::vector<std::pair<int, double>>& terms,
 
 }  // namespace
 
-FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::MatrixXd& jacobian,
-                                const Eigen::VectorXd& residuals,
+FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::VectorXd& residuals,
                                 const std::vector<std::string>& names) {
   FitStatistics stats;
   const Eigen::Index n = svd.v.rows();
@@ -265,7 +269,6 @@ FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::MatrixXd& jac
   stats.identifiable.assign(n, true);
   if (k < n) {
     const Eigen::MatrixXd directions = reducedRowEchelon(svd.v.rightCols(n - k).transpose());
-    const Eigen::MatrixXd scaledJacobian = jacobian * svd.columnScale.asDiagonal();
     for (Eigen::Index d = 0; d < directions.rows(); ++d) {
       const Eigen::VectorXd direction = directions.row(d).transpose();
       const double largestTerm = direction.cwiseAbs().maxCoeff();
@@ -279,7 +282,10 @@ FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::MatrixXd& jac
         }
       }
       combination.relativeSingularValue =
-          largest > 0.0 ? (scaledJacobian * direction).norm() / direction.norm() / largest : 0.0;
+          largest > 0.0
+              ? (svd.singularValues.asDiagonal() * (svd.v.transpose() * direction)).norm() /
+                    direction.norm() / largest
+              : 0.0;
       combination.description = describe(combination.terms, names);
       stats.unidentifiable.push_back(std::move(combination));
     }
@@ -290,7 +296,7 @@ FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::MatrixXd& jac
 FitStatistics analyse(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residuals,
                       const std::vector<std::string>& names, double rankTolerance) {
   const ScaledSvd svd(jacobian, rankTolerance);
-  return analyseFactorised(svd, jacobian, residuals, names);
+  return analyseFactorised(svd, residuals, names);
 }
 
 // ---- Solve --------------------------------------------------------------------------------------
@@ -316,11 +322,11 @@ FitResult solveLinear(const ResidualProblem& problem, const Eigen::VectorXd& sta
   problem.residuals(start, r);
   Eigen::MatrixXd jacobian;
   problem.jacobian(start, jacobian);
-  report(options, "sensitivity matrix " + std::to_string(jacobian.rows()) + " x " +
-                      std::to_string(jacobian.cols()) + " built");
-  const ScaledSvd svd(jacobian, options.rankTolerance);
-  report(options,
-         "factorised: rank " + std::to_string(svd.rank) + " of " + std::to_string(jacobian.cols()));
+  report(options, "sensitivity matrix built");
+  const Eigen::Index rows = jacobian.rows(), columns = jacobian.cols();
+  const ScaledSvd svd(std::move(jacobian), options.rankTolerance);
+  report(options, "factorised " + std::to_string(rows) + " x " + std::to_string(columns) +
+                      ": rank " + std::to_string(svd.rank) + " of " + std::to_string(columns));
   const double absoluteTolerance =
       1e-13 * std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, r.size())));
   result.termination = "iteration limit reached";
@@ -338,7 +344,7 @@ FitResult solveLinear(const ResidualProblem& problem, const Eigen::VectorXd& sta
     line << "iteration " << iteration << ": |r| = " << r.norm();
     report(options, line.str());
   }
-  result.statistics = analyseFactorised(svd, jacobian, r, parameterNames(problem));
+  result.statistics = analyseFactorised(svd, r, parameterNames(problem));
   return result;
 }
 

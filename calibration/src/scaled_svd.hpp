@@ -13,7 +13,8 @@ namespace volcomp::calibration {
 
 /// Js = J D = U S V^T (D = diag(1 / column norms)); for m >= n through Js = Q R, R = U_R S V^T.
 struct ScaledSvd {
-  ScaledSvd(const Eigen::MatrixXd& jacobian, double rankTolerance);
+  /// Takes the Jacobian by value: it is scaled and factorised in place (no copy when moved in).
+  ScaledSvd(Eigen::MatrixXd jacobian, double rankTolerance);
   /// U_k^T r.
   Eigen::VectorXd projectResiduals(const Eigen::VectorXd& residuals) const;
   /// Minimum-norm (scaled) Gauss-Newton step dp = -D V_k S_k^-1 U_k^T r.
@@ -23,13 +24,14 @@ struct ScaledSvd {
   Eigen::VectorXd singularValues;
   Eigen::MatrixXd uSmall;
   Eigen::MatrixXd v;
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr;
+  /// Householder factors of the QR of Js (tall case) and their coefficients.
+  Eigen::MatrixXd factors;
+  Eigen::VectorXd householderCoefficients;
   bool tall = true;
   int rank = 0;
 };
 
-FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::MatrixXd& jacobian,
-                                const Eigen::VectorXd& residuals,
+FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::VectorXd& residuals,
                                 const std::vector<std::string>& names);
 
 }  // namespace volcomp::calibration

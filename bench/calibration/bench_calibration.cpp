@@ -1,0 +1,157 @@
+// Calibration timings (run pinned: taskset -c 1 bench_calibration).
+// - Seed 003: the planar 2-DOF device, 7 parameters, 25 points, Levenberg-Marquardt from the
+//   paper's starting values, with covariance and rank analysis. Target <= 1 ms.
+// - 21 components of an XYFZ machine as 8-node tables (18 x 8 + 3 = 147 parameters), 5000
+//   points (1000 positions x 5 tools), linear identification including covariance, correlation
+//   and the naming of unidentifiable combinations. Target <= 0.3 s.
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "synthetic.hpp"
+#include "volcomp/calibration/identification.hpp"
+#include "volcomp/calibration/planar2dof.hpp"
+
+namespace {
+
+using namespace volcomp;
+using namespace volcomp::calibration;
+using nlohmann::json;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::vector<Planar2DofSample> planarData() {
+  const Planar2DofParameters truth{0.30, 0.10,          1.53,    0.13,  0.0,
+                                   0.0,  -0.184 * kDeg, -2.1e-3, 0.7e-3};
+  std::mt19937 generator(3);
+  std::normal_distribution<double> noise(0.0, 1.8e-3);
+  const double c = std::cos(truth[phi]), s = std::sin(truth[phi]);
+  std::vector<Planar2DofSample> samples;
+  for (int row = 0; row < 5; ++row) {
+    for (int column = 0; column < 5; ++column) {
+      const Eigen::Vector2d tcp(-20.0 + 10.0 * column, 180.0 + 10.0 * row);
+      const Eigen::Vector2d readings = planar2DofInverse({}, truth, tcp);
+      Planar2DofSample sample{
+          readings.x(), readings.y(),
+          Eigen::Vector2d(c * tcp.x() + s * tcp.y(), -s * tcp.x() + c * tcp.y())};
+      if (row + column > 0) sample.lgpMm += Eigen::Vector2d(noise(generator), noise(generator));
+      samples.push_back(sample);
+    }
+  }
+  samples[0].lgpMm -= Eigen::Vector2d(truth[exK], truth[eyK]);
+  return samples;
+}
+
+void BM_Seed003PlanarFit(benchmark::State& state) {
+  const Planar2DofParameters start{0.1, 0.1, 1.0, 0.1, 0.0, 0.0, 0.057 * kDeg, 3e-3, 3e-3};
+  const Planar2DofProblem problem({}, planarData(), 0, kPaperFreeParameters, start);
+  SolveOptions options;
+  options.method = Method::LevenbergMarquardt;
+  int rank = 0;
+  for (auto _ : state) {
+    const FitResult fit = solve(problem, problem.freeVector(start), options);
+    rank = fit.statistics.rank;
+    benchmark::DoNotOptimize(fit.parameters.data());
+  }
+  state.counters["rank"] = rank;
+}
+BENCHMARK(BM_Seed003PlanarFit)->Unit(benchmark::kMicrosecond);
+
+json vmcTruth() {
+  json components = json::object();
+  const std::vector<double> positions{0, 100, 200, 300, 400, 500, 600, 700};
+  std::mt19937 generator(21);
+  std::normal_distribution<double> value(0.0, 5.0);
+  for (int i = 0; i < 18; ++i) {
+    std::vector<double> values;
+    for (std::size_t j = 0; j < positions.size(); ++j) values.push_back(value(generator));
+    const int axis = i / 6;
+    std::vector<double> scaled = positions;
+    for (double& p : scaled)
+      p = axis == 2 ? -p * 4.0 / 7.0 : p * (axis == 1 ? 5.0 / 7.0 : 8.0 / 7.0);
+    if (axis == 2) std::reverse(scaled.begin(), scaled.end());
+    components[model::motionName(i)] = {
+        {"positions", scaled}, {"values", values}, {"interpolation", "linear"}};
+  }
+  components["EC0Y"] = 12.0;
+  components["EB0Z"] = -8.0;
+  components["EA0Z"] = 5.0;
+  return json{{"format", "volcomp-model/1"},
+              {"topology", "XYFZ"},
+              {"tool", {0, 0, 100}},
+              {"error_units", {{"length", "um"}, {"angle", "urad"}}},
+              {"components", components}};
+}
+
+json vmcTemplate(const json& truth) {
+  json t = truth;
+  for (auto& [name, component] : t["components"].items()) {
+    if (name.size() == 4) {
+      component = {{"identify", "constant"}};
+    } else {
+      component = {{"identify",
+                    {{"basis", "table"},
+                     {"positions", component["positions"]},
+                     {"interpolation", "linear"}}}};
+    }
+  }
+  return t;
+}
+
+struct VmcCase {
+  config::ModelDocument document;
+  MeasurementSet data;
+};
+
+const VmcCase& vmcCase() {
+  static const VmcCase instance = [] {
+    const json truth = vmcTruth();
+    testing::SyntheticOptions options;
+    options.x.clear();
+    options.y.clear();
+    options.z.clear();
+    for (int i = 0; i < 10; ++i) {
+      options.x.push_back(800.0 * i / 9.0);
+      options.y.push_back(500.0 * i / 9.0);
+      options.z.push_back(-400.0 * i / 9.0);
+    }
+    options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250),
+                     Eigen::Vector3d(150, 0, 150), Eigen::Vector3d(0, 150, 150),
+                     Eigen::Vector3d(-100, -100, 200)};
+    options.noiseMm = 1e-3;
+    return VmcCase{testing::templateDocument(vmcTemplate(truth)),
+                   testing::simulate(testing::machineSpec(truth), options)};
+  }();
+  return instance;
+}
+
+void BM_TwentyOneComponentIdentification(benchmark::State& state) {
+  const VmcCase& c = vmcCase();
+  const auto problem = makeIdentificationProblem(c.document, c.data);
+  int rank = 0;
+  for (auto _ : state) {
+    const FitResult fit = solve(*problem, problem->startVector());
+    rank = fit.statistics.rank;
+    benchmark::DoNotOptimize(fit.statistics.covariance.data());
+  }
+  state.counters["parameters"] = problem->parameterCount();
+  state.counters["points"] = problem->observationCount();
+  state.counters["rank"] = rank;
+}
+BENCHMARK(BM_TwentyOneComponentIdentification)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+void BM_TwentyOneComponentProblemSetUp(benchmark::State& state) {
+  const VmcCase& c = vmcCase();
+  for (auto _ : state) {
+    const auto problem = makeIdentificationProblem(c.document, c.data);
+    benchmark::DoNotOptimize(problem.get());
+  }
+}
+BENCHMARK(BM_TwentyOneComponentProblemSetUp)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -168,7 +168,8 @@ void Machine::onWrite(double tS, const daemon::OffsetCommand& command, bool part
   }
   sessionWritten_ = true;
   lastWriteT_ = tS;
-  writes_.push_back(rec);
+  ++writeCount_;
+  if (options_.keepWrites) writes_.push_back(rec);
 }
 
 TransportFault Machine::transportFault(double tS) {
@@ -267,7 +268,7 @@ nlohmann::json Machine::report(double tS) const {
   return json{
       {"duration_s", tS},
       {"samples", compensated_.samples},
-      {"writes", writes_.size()},
+      {"writes", writeCount_},
       {"partial_writes", partialWrites_},
       {"limiter_violations", violations_},
       {"offset_violations", offsetViolations_},

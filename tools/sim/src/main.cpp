@@ -157,6 +157,8 @@ int main(int argc, char** argv) {
       throw config::ConfigError(configFile, "transport.type",
                                 "this volcomp-sim serves Modbus only (modbus-tcp, modbus-rtu)");
     }
+    // Long runs without --record keep counters only.
+    cfg.machine.keepWrites = !recordFile.empty();
     machine.emplace(std::move(path), std::move(trueError), cfg.machine);
   } catch (const std::exception& e) {
     std::cerr << "volcomp-sim: " << e.what() << '\n';

@@ -63,6 +63,8 @@ struct MachineOptions {
   double settleS = 0.0;
   bool enable = true;
   bool homed = true;
+  /// Keep every WriteRecord for writes() (for --record); otherwise only counters grow.
+  bool keepWrites = true;
 };
 
 /// One write as the controller saw it.
@@ -162,6 +164,7 @@ class Machine {
   std::uint64_t watchdogTrips_ = 0;
 
   std::vector<WriteRecord> writes_;
+  std::uint64_t writeCount_ = 0;
   std::uint64_t violations_ = 0, offsetViolations_ = 0, rateViolations_ = 0, partialWrites_ = 0;
   std::array<std::uint64_t, 3> axisViolations_{};
   std::string firstViolation_;

@@ -225,8 +225,9 @@ void Daemon::notifyPeriodic(Clock::time_point now) {
         !warnedStarting_ && now - startTime_ >= std::chrono::seconds(5)) {
       warnedStarting_ = true;
       spdlog::warn(
-          "still starting after 5 s: connected, but no applied offsets read back; map the "
-          "applied-offset registers or set offset_readback false with plc_zero_after_ms");
+          "still starting after 5 s: no applied offsets read back yet (reads failing, or no "
+          "applied-offset registers mapped; without a read-back set offset_readback false and "
+          "plc_zero_after_ms)");
     }
   }
 }

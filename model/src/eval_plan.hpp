@@ -40,7 +40,21 @@ struct EvalPlan {
     std::array<double, 3> directionMinusUnit{};  // d_K - e_K, full precision
   };
 
+  /// The O(1) lookup of an axis whose six components are tables over one uniform grid, with
+  /// everything it needs side by side (see `allUniform`).
+  struct UniformAxis {
+    double lowerMm = 0.0, upperMm = 0.0;  // travel, +-inf when unbounded
+    double first = 0.0, invStep = 0.0;    // first node, intervals per mm
+    double top = 0.0;                     // number of intervals
+    int lastInterval = 0;
+    std::array<const double*, 3> coefficients{};  // per curve, as in Group
+  };
+
   std::array<AxisPlan, 3> axes;
+  /// Every axis is uniformTabulated (the usual measured model): evaluation takes the unrolled
+  /// lookup over `uniform`.
+  bool allUniform = false;
+  std::array<UniformAxis, 3> uniform{};
   /// Positions and coefficients; never resized after the build (the pointers above refer to it).
   std::vector<double> data;
   std::vector<Group> groups;

@@ -132,6 +132,21 @@ std::shared_ptr<const EvalPlan> buildPlan(
   for (std::size_t p = 0; p < plan->polynomials.size(); ++p) {
     plan->polynomials[p].coefficients = data + polynomialOffsets[p];
   }
+  plan->allUniform = true;
+  for (int k = 0; k < 3; ++k) {
+    const EvalPlan::AxisPlan& axis = plan->axes[k];
+    plan->allUniform = plan->allUniform && axis.uniformTabulated;
+    if (!axis.uniformTabulated) continue;
+    const EvalPlan::Group& group = plan->groups[axis.groupBegin];
+    EvalPlan::UniformAxis& u = plan->uniform[k];
+    u.lowerMm = axis.lowerMm;
+    u.upperMm = axis.upperMm;
+    u.first = group.axis.first;
+    u.invStep = group.axis.invStep;
+    u.top = static_cast<double>(group.axis.count - 1);
+    u.lastInterval = group.axis.count - 2;
+    u.coefficients = group.coefficients;
+  }
   for (const Axis a : topology.toolSideFromFrame()) {
     plan->toolChain[plan->toolCount++] = static_cast<int>(a);
   }
@@ -180,7 +195,8 @@ struct AngleSet {
 // The angles are paired straight from the component values with scalar loads: each lies inside
 // one store of evaluateMotion, so the loads are forwarded from the store buffer, where a 16-byte
 // load straddling two stores would stall until they retire.
-[[gnu::always_inline]] inline void computeAngles(const MotionValues& v, AngleSet& a) noexcept {
+// Returns true when every angle is below kSmallAngleRad (the series path).
+[[gnu::always_inline]] inline bool computeAngles(const MotionValues& v, AngleSet& a) noexcept {
   using detail::Double2;
   const Double2 p0{v[3], v[4]}, p1{v[5], v[9]}, p2{v[10], v[11]}, p3{v[15], v[16]}, p4{v[17], 0.0};
   const auto all = small(p0) & small(p1) & small(p2) & small(p3) & small(p4);
@@ -190,10 +206,11 @@ struct AngleSet {
     seriesSinCosm1(p2, a.s + 4, a.m + 4);
     seriesSinCosm1(p3, a.s + 6, a.m + 6);
     seriesSinCosm1(p4, a.s + 8, a.m + 8);
-  } else {
-    const double x[9] = {v[3], v[4], v[5], v[9], v[10], v[11], v[15], v[16], v[17]};
-    for (int i = 0; i < 9; ++i) detail::sinCosm1(x[i], a.s[i], a.m[i]);
+    return true;
   }
+  const double x[9] = {v[3], v[4], v[5], v[9], v[10], v[11], v[15], v[16], v[17]};
+  for (int i = 0; i < 9; ++i) detail::sinCosm1(x[i], a.s[i], a.m[i]);
+  return false;
 }
 
 struct Vec {
@@ -299,6 +316,62 @@ constexpr std::array<ChainFunction, 6> kChainsWith = {
 constexpr std::array<std::array<ChainFunction, 6>, 4> kChains = {kChainsWith<0>, kChainsWith<1>,
                                                                  kChainsWith<2>, kChainsWith<3>};
 
+// Entry (r, c) of B = R - I (T false) or of R^T - I (T true).
+template <bool T>
+[[gnu::always_inline]] inline double entry(const Mat3& m, int r, int c) noexcept {
+  return T ? m.a[3 * c + r] : m.a[3 * r + c];
+}
+
+// (I + X)(I + Y) - I = X + Y + X Y, all nine entries; X, Y are R - I or R^T - I of a carriage
+// (transposed when TX, TY), read in place.
+template <bool TX, bool TY>
+[[gnu::always_inline]] inline Mat3 productMinusIdentity(const Mat3& xm, const Mat3& ym) noexcept {
+  const auto x = [&xm](int r, int c) { return entry<TX>(xm, r, c); };
+  const auto y = [&ym](int r, int c) { return entry<TY>(ym, r, c); };
+  const auto p = [&](int r, int c) {
+    return (x(r, c) + y(r, c)) + (x(r, 0) * y(0, c) + x(r, 1) * y(1, c) + x(r, 2) * y(2, c));
+  };
+  return {{p(0, 0), p(0, 1), p(0, 2), p(1, 0), p(1, 1), p(1, 2), p(2, 0), p(2, 1), p(2, 2)}};
+}
+
+// Skew part s = (R32 - R23, R13 - R31, R21 - R12) / 2 of rot(H_WT) = R_W1^T ... R_Wn^T R_T1 ...
+// R_Tn, which is sin(angle) times the rotation axis: the three factors are the workpiece-side
+// axes from the carriage of the workpiece inward (A2 down to A_NT, transposed), then the tool-side
+// axes from the frame outward (A0 up to A_NT-1). Formed from the R - I matrices, so that only the
+// six off-diagonal entries of the last product are needed.
+template <int NT, int A0, int A1, int A2>
+Vec chainSkew(const Mat3* mats) noexcept {
+  constexpr int kAxes[3] = {A0, A1, A2};
+  // Factor j (left to right) is carriage kAxes[kIndex[j]], transposed when it is workpiece side.
+  constexpr int kIndex[3] = {NT == 3 ? 0 : 2,
+                             NT == 3   ? 1
+                             : NT == 2 ? 0
+                                       : 1,
+                             NT == 3   ? 2
+                             : NT == 2 ? 1
+                                       : 0};
+  constexpr bool kT0 = kIndex[0] >= NT, kT1 = kIndex[1] >= NT, kT2 = kIndex[2] >= NT;
+  const Mat3 p = productMinusIdentity<kT0, kT1>(mats[kAxes[kIndex[0]]], mats[kAxes[kIndex[1]]]);
+  const Mat3& ym = mats[kAxes[kIndex[2]]];
+  const auto y = [&ym](int r, int c) { return entry<kT2>(ym, r, c); };
+  // Entry (r, c) of (I + P)(I + Y) - I.
+  const auto last = [&](int r, int c) {
+    return (p.a[3 * r + c] + y(r, c)) +
+           (p.a[3 * r] * y(0, c) + p.a[3 * r + 1] * y(1, c) + p.a[3 * r + 2] * y(2, c));
+  };
+  return {0.5 * (last(2, 1) - last(1, 2)), 0.5 * (last(0, 2) - last(2, 0)),
+          0.5 * (last(1, 0) - last(0, 1))};
+}
+
+using SkewFunction = Vec (*)(const Mat3*) noexcept;
+
+template <int NT>
+constexpr std::array<SkewFunction, 6> kSkewsWith = {
+    &chainSkew<NT, 0, 1, 2>, &chainSkew<NT, 0, 2, 1>, &chainSkew<NT, 1, 0, 2>,
+    &chainSkew<NT, 1, 2, 0>, &chainSkew<NT, 2, 0, 1>, &chainSkew<NT, 2, 1, 0>};
+constexpr std::array<std::array<SkewFunction, 6>, 4> kSkews = {kSkewsWith<0>, kSkewsWith<1>,
+                                                               kSkewsWith<2>, kSkewsWith<3>};
+
 // E(q) without grids, composed in deviation form: every partial product is carried as its
 // nominal value plus a deviation, and only deviations are accumulated, so that E keeps full
 // relative precision instead of being the difference of two positions of ~1e3 mm.
@@ -348,14 +421,21 @@ Eigen::Vector3d angularError(const EvalPlan& plan, const AngleSet& angles) noexc
   return rotationVector(r);
 }
 
-[[gnu::always_inline]] inline Eigen::Vector3d positionError(const MachineModel& model,
-                                                            const EvalPlan& plan, AngleSet& angles,
-                                                            const Eigen::Vector3d& q,
-                                                            const MotionValues& values,
-                                                            const Eigen::Vector3d& tool) noexcept {
-  computeAngles(values, angles);
+// The carriage matrices R_K - I the position was composed with, and whether every error angle
+// took the small-angle series.
+struct Carriages {
   Mat3 mats[3];
-  for (int k = 0; k < 3; ++k) mats[k] = carriageMinusIdentity(angles, k);
+  bool small = false;
+};
+
+[[gnu::always_inline]] inline Eigen::Vector3d positionError(
+    const MachineModel& model, const EvalPlan& plan, AngleSet& angles, Carriages& carriages,
+    const Eigen::Vector3d& q, const MotionValues& values, const Eigen::Vector3d& tool) noexcept {
+  carriages.small = computeAngles(values, angles);
+  Mat3* mats = carriages.mats;
+  mats[0] = carriageMinusIdentity(angles, 0);
+  mats[1] = carriageMinusIdentity(angles, 1);
+  mats[2] = carriageMinusIdentity(angles, 2);
   const Vec d = positionDeviation(plan, mats, q, values, tool);
   Eigen::Vector3d error(d.x, d.y, d.z);
   for (const Grid& grid : model.grids()) error[grid.component()] += grid.valueMm(q.data());
@@ -425,11 +505,46 @@ namespace {
          t2 * (detail::load2(c + 12) + t * detail::load2(c + 18));
 }
 
+// One axis of an allUniform plan: q clamped to the travel (a NaN stays NaN and is not flagged),
+// then into the table, index and fraction, three lane pairs. Branch-free.
+template <int K>
+[[gnu::always_inline]] inline unsigned uniformAxis(const EvalPlan& plan, const Eigen::Vector3d& qMm,
+                                                   const Directions& directions,
+                                                   double* values) noexcept {
+  const EvalPlan::UniformAxis& axis = plan.uniform[K];
+  const double q0 = qMm[K];
+  const unsigned clamped = static_cast<unsigned>((q0 < axis.lowerMm) | (q0 > axis.upperMm)) << K;
+  const double q = std::min(std::max(q0, axis.lowerMm), axis.upperMm);
+  // Written so that a NaN position lands on the first node instead of indexing anywhere.
+  double scaled = (q - axis.first) * axis.invStep;
+  scaled = scaled > 0.0 ? scaled : 0.0;
+  scaled = scaled < axis.top ? scaled : axis.top;
+  const int i = std::min(static_cast<int>(scaled), axis.lastInterval);
+  const detail::Double2 tt = detail::splat2(scaled - i);
+  const double* c = axis.coefficients[detail::curveIndex(directions[K])] + 24 * i;
+  const detail::Double2 t2 = tt * tt;
+  double* out = values + 6 * K;
+  detail::store2(out, cubic6(c, tt, t2));
+  detail::store2(out + 2, cubic6(c + 2, tt, t2));
+  detail::store2(out + 4, cubic6(c + 4, tt, t2));
+  return clamped;
+}
+
+[[gnu::always_inline]] inline std::uint8_t uniformMotion(const EvalPlan& plan,
+                                                         const Eigen::Vector3d& qMm,
+                                                         const Directions& directions,
+                                                         MotionValues& values) noexcept {
+  return static_cast<std::uint8_t>(uniformAxis<0>(plan, qMm, directions, values.data()) |
+                                   uniformAxis<1>(plan, qMm, directions, values.data()) |
+                                   uniformAxis<2>(plan, qMm, directions, values.data()));
+}
+
 }  // namespace
 
 std::uint8_t evaluateMotion(const MachineModel& model, const Eigen::Vector3d& qMm,
                             const Directions& directions, MotionValues& values) noexcept {
   const EvalPlan& plan = detail::PlanAccess::plan(model);
+  if (plan.allUniform) return uniformMotion(plan, qMm, directions, values);
   std::uint8_t clamped = 0;
   for (int k = 0; k < 3; ++k) {
     const EvalPlan::AxisPlan& axis = plan.axes[k];
@@ -495,10 +610,21 @@ PointError composeError(const MachineModel& model, Workspace& ws, const Eigen::V
   (void)ws;  // everything fits in registers and on the stack
   const EvalPlan& plan = detail::PlanAccess::plan(model);
   AngleSet angles;
+  Carriages carriages;
   PointError result;
-  result.errorMm = positionError(model, plan, angles, qMm, values, toolMm);
+  result.errorMm = positionError(model, plan, angles, carriages, qMm, values, toolMm);
   if (mode == EvalMode::Exact) {
-    result.angularErrorRad = angularError(plan, angles);
+    const Vec sk = kSkews[plan.toolCount][plan.chainPermutation](carriages.mats);
+    const double s2 = sk.x * sk.x + sk.y * sk.y + sk.z * sk.z;
+    if (carriages.small && s2 < 1e-4) {
+      // The series branch of rotationVector: with every error angle below 1e-2 rad the rotation
+      // is below 0.1 rad, so cos(angle) > 0 holds without forming the trace.
+      const double f =
+          1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0 + s2 * (5.0 / 112.0 + s2 * (35.0 / 1152.0))));
+      result.angularErrorRad = Eigen::Vector3d(f * sk.x, f * sk.y, f * sk.z);
+    } else {
+      result.angularErrorRad = angularError(plan, angles);
+    }
   } else {
     // First order the small rotations simply add: tool side +w, workpiece side -w.
     const double* v = values.data();
@@ -531,8 +657,9 @@ OffsetSolution solveOffset(const MachineModel& model, Workspace& ws, const Eigen
   OffsetSolution solution;
   // Both modes compose the position the same way (see EvalMode), so options.mode changes nothing.
   AngleSet angles;
+  Carriages carriages;
   std::uint8_t clamped = evaluateMotion(model, qMm, directions, ws.motion);
-  Eigen::Vector3d offset = -positionError(model, plan, angles, qMm, ws.motion, tool);
+  Eigen::Vector3d offset = -positionError(model, plan, angles, carriages, qMm, ws.motion, tool);
   double residualNorm = std::numeric_limits<double>::infinity();
   int iteration = 0;
   while (iteration < options.maxIterations) {
@@ -541,7 +668,7 @@ OffsetSolution solveOffset(const MachineModel& model, Workspace& ws, const Eigen
     clamped = evaluateMotion(model, commanded, directions, ws.motion);
     // p(q + o) - p0(q) = E(q + o) + o, formed without subtracting two large positions.
     const Eigen::Vector3d residual =
-        positionError(model, plan, angles, commanded, ws.motion, tool) + offset;
+        positionError(model, plan, angles, carriages, commanded, ws.motion, tool) + offset;
     residualNorm = residual.norm();
     if (!std::isfinite(residualNorm)) break;
     if (residualNorm < options.toleranceMm) {

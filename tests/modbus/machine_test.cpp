@@ -102,6 +102,23 @@ TEST(SimMachine, ChecksEveryWriteAgainstTheLimits) {
   EXPECT_TRUE(w[3].violation);
 }
 
+TEST(SimMachine, OneLimiterStepPerWriteWhateverTheJitter) {
+  MachineOptions opt;
+  opt.limits.maxRateMmS = 1.0;
+  opt.limits.rateToleranceS = 0.0;
+  opt.limits.cycleS = 0.010;
+  Machine m = standing({0, 0, 0}, opt);
+  m.onSessionStart(0.0);
+  m.onWrite(0.010, offsets(0.010, 0, 0));
+  // A late cycle followed by an on-time one: 2 ms apart, still one step of 1 mm/s * 10 ms.
+  m.onWrite(0.018, offsets(0.020, 0, 0));
+  m.onWrite(0.020, offsets(0.030, 0, 0));
+  EXPECT_EQ(m.report(0.1)["rate_violations"], 0);
+  // More than one step (0.0101 mm > 0.010 mm) is a violation however it is timed.
+  m.onWrite(0.030, offsets(0.0401, 0, 0));
+  EXPECT_EQ(m.report(0.1)["rate_violations"], 1);
+}
+
 TEST(SimMachine, FirstWriteAfterReconnectMustContinueFromTheAppliedOffset) {
   MachineOptions opt;
   opt.limits.maxRateMmS = 0.5;

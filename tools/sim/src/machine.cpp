@@ -120,8 +120,10 @@ void Machine::onWrite(double tS, const daemon::OffsetCommand& command, bool part
   if (partial) ++partialWrites_;
   // The reference of the rate check is what the controller applies right now (after any
   // watchdog ramp); dt runs from the previous write of this session, or from the session start.
-  const double dt = sessionWritten_ ? std::max(0.0, tS - lastWriteT_)
-                                    : std::max(options_.limits.cycleS, tS - sessionStartT_);
+  // A write may always make one limiter step (max_rate * cycle): the daemon's limiter works per
+  // cycle, and scheduling jitter can bring two writes closer than a period.
+  const double sinceS = sessionWritten_ ? tS - lastWriteT_ : tS - sessionStartT_;
+  const double dt = std::max(options_.limits.cycleS, sinceS);
   const Limits& lim = options_.limits;
   for (std::size_t k = 0; k < 3; ++k) {
     const double o = command.offsetMm[k];

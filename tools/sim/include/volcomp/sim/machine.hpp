@@ -9,7 +9,7 @@
 ///   which each axis last moved, gives the tool-tip error:
 ///   uncompensated E(q), compensated p(q + o) - p0(q) = E(q + o) + o (p0 is linear in q);
 /// - every write is recorded and checked against the configured limits (|o| <= max_offset,
-///   |o - o_prev| <= max_rate * (dt + rate_tolerance), plus two register counts of rounding);
+///   |o - o_prev| <= max_rate * (max(dt, cycle) + rate_tolerance), plus register rounding);
 /// - faults (stall, link drop, exception replies, frozen registers, feed hold, enable/homed) are
 ///   set by commands and read by the transport.
 /// Time is seconds on the caller's clock (monotonic); every method is thread-safe.
@@ -44,8 +44,9 @@ struct Limits {
   double rateToleranceS = 0.005;
   /// One register count of each offset output (mm): quantisation allowed in both checks.
   Vec3 quantumMm{};
-  /// The writer's cycle period: the first write of a session (nothing to measure dt from but the
-  /// connection) may step from the applied offset by max_rate * cycle, one limiter step.
+  /// The writer's cycle period: any write may step from the applied offset by one limiter step,
+  /// max_rate * cycle (the first write of a session included), or by max_rate * the time since
+  /// the previous write when that is longer.
   double cycleS = 0.01;
 };
 

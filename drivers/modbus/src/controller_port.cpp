@@ -203,8 +203,15 @@ std::error_code ModbusControllerPort::write(const daemon::OffsetCommand& command
 std::unique_ptr<daemon::ControllerPort> makeControllerPort(const nlohmann::json& transportSection,
                                                            const std::string& file,
                                                            const std::string& keyPath) {
-  return std::make_unique<ModbusControllerPort>(
-      config::parseModbusConfig(transportSection, file, keyPath));
+  config::ModbusConfig parsed = config::parseModbusConfig(transportSection, file, keyPath);
+  try {
+    return std::make_unique<ModbusControllerPort>(std::move(parsed));
+  } catch (const std::system_error& e) {
+    // Validated settings make this unreachable in practice; if libmodbus still refuses them,
+    // the daemon reports it like any other configuration error.
+    throw config::ConfigError(file, keyPath,
+                              std::string("libmodbus refused the settings: ") + e.what());
+  }
 }
 
 }  // namespace volcomp::modbus

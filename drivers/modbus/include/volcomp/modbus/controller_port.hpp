@@ -80,7 +80,8 @@ class ModbusControllerPort final : public daemon::ControllerPort {
 };
 
 /// Factory for volcompd: parses the transport section (type "modbus-tcp" or "modbus-rtu"; key
-/// paths in errors start at `keyPath`) and returns an unconnected port. Throws ConfigError.
+/// paths in errors start at `keyPath`) and returns an unconnected port. Throws ConfigError (also
+/// when libmodbus refuses the validated settings).
 std::unique_ptr<daemon::ControllerPort> makeControllerPort(
     const nlohmann::json& transportSection, const std::string& file,
     const std::string& keyPath = "transport");

@@ -1,6 +1,7 @@
 // Levenberg-Marquardt on the exact model with Ceres: one residual block per observation (so that a
 // robust loss acts per measured point), one block for the prior rows, all parameters in one block.
 
+#include <cmath>
 #include <memory>
 #include <sstream>
 #include <vector>
@@ -22,6 +23,11 @@ class ObservationCost final : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     problem_.observationResiduals(parameters[0], observation_, residuals);
+    // A trial step can leave the model's domain (e.g. legs that no longer meet); returning false
+    // makes Ceres reject the step and shrink the trust region instead of accepting NaN.
+    for (int row = 0; row < num_residuals(); ++row) {
+      if (!std::isfinite(residuals[row])) return false;
+    }
     if (jacobians != nullptr && jacobians[0] != nullptr) {
       problem_.observationJacobian(parameters[0], observation_, jacobians[0]);
     }

@@ -105,6 +105,70 @@ TEST(MachineIdentification, TwoToolLengthsSeparatePitchAndRecoverWithinThreeSigm
   EXPECT_NEAR(s0, 1e-3, 0.15e-3);
 }
 
+TEST(MachineIdentification, MeasuredAnglesSeparatePitchWithOneToolLength) {
+  // The angular error of FXYZ with EBX = b is (0, b, 0) whatever the tool: measuring it pins EBX
+  // down where one tool length alone could not (see the test above).
+  SyntheticOptions options;
+  options.noiseMm = 1e-3;
+  options.withAngles = true;
+  options.angleNoiseRad = 1e-6;
+  const MeasurementSet data = simulate(testing::machineSpec(fxyzTruth()), options);
+  const auto problem = makeIdentificationProblem(testing::templateDocument(fxyzTemplate()), data);
+  EXPECT_EQ(problem->residualsPerObservation(), 6);
+  const FitResult fit = solve(*problem, problem->startVector());
+  EXPECT_EQ(fit.statistics.rank, 5);
+  Eigen::VectorXd truth(5);
+  truth << 25e-6, 15e-6, 3e-3, 12e-6, -20e-6;
+  expectWithinSigma(fit, truth, 0);
+  // Angular rows count 1 mm per mrad (angleScaleMm 1000): 1 urad of noise weighs like 1 um, so
+  // s0 stays at the common noise level of 1 um.
+  EXPECT_NEAR(std::sqrt(fit.statistics.varianceFactor), 1e-3, 0.15e-3);
+}
+
+TEST(MachineIdentification, LinearAndLevenbergMarquardtAgree) {
+  SyntheticOptions options;
+  options.noiseMm = 1e-3;
+  options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
+  const MeasurementSet data = simulate(testing::machineSpec(fxyzTruth()), options);
+  const auto problem = makeIdentificationProblem(testing::templateDocument(fxyzTemplate()), data);
+  const FitResult linear = solve(*problem, problem->startVector());
+  SolveOptions lm;
+  lm.method = Method::LevenbergMarquardt;
+  const FitResult nonlinear = solve(*problem, problem->startVector(), lm);
+  ASSERT_TRUE(nonlinear.converged) << nonlinear.termination;
+  for (int j = 0; j < 5; ++j) {
+    // Same minimum: differences far below the statistical uncertainty.
+    EXPECT_NEAR(linear.parameters(j), nonlinear.parameters(j),
+                1e-3 * linear.statistics.standardDeviation(j))
+        << linear.names[j];
+    EXPECT_NEAR(linear.statistics.standardDeviation(j), nonlinear.statistics.standardDeviation(j),
+                1e-3 * linear.statistics.standardDeviation(j));
+  }
+}
+
+TEST(MachineIdentification, WeightsScaleTheUncertainty) {
+  // Same data, every weight 4: the weighted residuals double, s0 doubles, and sigma (which scales
+  // with s0 / sqrt(weight)) stays the same, since the weights are relative.
+  SyntheticOptions options;
+  options.noiseMm = 1e-3;
+  options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
+  MeasurementSet data = simulate(testing::machineSpec(fxyzTruth()), options);
+  const auto plain = makeIdentificationProblem(testing::templateDocument(fxyzTemplate()), data);
+  const FitResult a = solve(*plain, plain->startVector());
+  for (Measurement& m : data.points) m.weight = 4.0;
+  const auto weighted = makeIdentificationProblem(testing::templateDocument(fxyzTemplate()), data);
+  const FitResult b = solve(*weighted, weighted->startVector());
+  EXPECT_NEAR(std::sqrt(b.statistics.varianceFactor), 2.0 * std::sqrt(a.statistics.varianceFactor),
+              1e-9);
+  for (int j = 0; j < 5; ++j) {
+    EXPECT_NEAR(a.parameters(j), b.parameters(j), 1e-9 * std::abs(a.parameters(j)) + 1e-15);
+    EXPECT_NEAR(a.statistics.standardDeviation(j), b.statistics.standardDeviation(j),
+                1e-9 * a.statistics.standardDeviation(j));
+  }
+  // The RMS/max statistics are unweighted: the same for both.
+  EXPECT_NEAR(a.after.rms, b.after.rms, 1e-12);
+}
+
 TEST(MachineIdentification, SquarenessAndStraightnessSlopeAreNamedTogether) {
   // EC0Y = c rotates the Y axis about Z: e_x = -c y to first order, the same as EXY c1 = -c.
   json truth = fxyzTruth();

@@ -27,6 +27,9 @@ struct SyntheticOptions {
   /// Instrument frame: rotation (rad, Rz Ry Rx) and translation (mm).
   Eigen::Vector3d frameRotationRad = Eigen::Vector3d::Zero();
   Eigen::Vector3d frameTranslationMm = Eigen::Vector3d::Zero();
+  /// Also "measure" the angular error (ea, eb, ec), with noise angleNoiseRad (no frame rotation).
+  bool withAngles = false;
+  double angleNoiseRad = 0.0;
 };
 
 inline model::MachineModelSpec machineSpec(const nlohmann::json& document) {
@@ -50,6 +53,8 @@ inline MeasurementSet simulate(const model::MachineModelSpec& truth,
   MeasurementSet set;
   set.file = "synthetic.csv";
   set.hasTool = true;
+  set.hasAngles = options.withAngles;
+  std::normal_distribution<double> angleNoise(0.0, options.angleNoiseRad);
   int line = 2;
   for (const Eigen::Vector3d& tool : options.tools) {
     for (double x : options.x) {
@@ -63,6 +68,13 @@ inline MeasurementSet simulate(const model::MachineModelSpec& truth,
           m.errorMm = rotation * (nominal + error.errorMm) + options.frameTranslationMm - nominal;
           if (options.noiseMm > 0.0) {
             m.errorMm += Eigen::Vector3d(noise(generator), noise(generator), noise(generator));
+          }
+          if (options.withAngles) {
+            m.angularErrorRad = error.angularErrorRad;
+            if (options.angleNoiseRad > 0.0) {
+              m.angularErrorRad += Eigen::Vector3d(angleNoise(generator), angleNoise(generator),
+                                                   angleNoise(generator));
+            }
           }
           m.line = line++;
           set.points.push_back(m);

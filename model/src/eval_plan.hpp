@@ -12,6 +12,19 @@
 
 namespace volcomp::model::detail {
 
+/// The per-point entry points of one instruction set (machine_model.cpp, eval_kernels.inc), with
+/// the semantics of evaluateMotion, composeError, evaluate (with a tool offset) and solveOffset.
+struct Kernels {
+  std::uint8_t (*motion)(const MachineModel&, const Eigen::Vector3d&, const Directions&,
+                         MotionValues&) noexcept;
+  PointError (*compose)(const MachineModel&, Workspace&, const Eigen::Vector3d&,
+                        const MotionValues&, const Eigen::Vector3d&, EvalMode) noexcept;
+  PointError (*evaluate)(const MachineModel&, Workspace&, const Eigen::Vector3d&,
+                         const Eigen::Vector3d&, const Directions&, EvalMode) noexcept;
+  OffsetSolution (*solve)(const MachineModel&, Workspace&, const Eigen::Vector3d&,
+                          const Directions&, const OffsetOptions&) noexcept;
+};
+
 struct EvalPlan {
   /// Tables of one axis over the same node positions.
   struct Group {
@@ -68,7 +81,13 @@ struct EvalPlan {
   /// as a permutation index 2 A0 + (A1 < A0 ? A1 : A1 - 1), selecting the composition code
   /// compiled for this topology.
   int chainPermutation = 0;
+  /// The kernels for the CPU the model was built on (AVX2 + FMA where available).
+  const Kernels* kernels = nullptr;
 };
+
+/// The kernels built for baseline x86-64 (SSE2) or the target's defaults, whatever the CPU: what
+/// CPUs without AVX2 and FMA run, exposed so that a test can compare it with the dispatched set.
+const Kernels& genericKernels() noexcept;
 
 struct PlanAccess {
   static const EvalPlan& plan(const MachineModel& model) noexcept { return *model.plan_; }

@@ -77,8 +77,17 @@ busybox="$(command -v busybox || true)"
   fail "$busybox is not statically linked (install busybox-static)"
 
 # 1. Debian's kernel package, downloaded once into the cache.
-pkg="$(apt-cache depends linux-image-amd64 2>/dev/null |
-  sed -n 's/^ *Depends: \(linux-image-[0-9][^ ]*-amd64\)$/\1/p' | head -n 1)"
+kernel_package() {
+  apt-cache depends linux-image-amd64 2>/dev/null |
+    sed -n 's/^ *Depends: \(linux-image-[0-9][^ ]*-amd64\)$/\1/p' | head -n 1
+}
+pkg="$(kernel_package)"
+if [ -z "$pkg" ] && [ "$(id -u)" -eq 0 ] && ! ls "$cache"/linux-image-*-amd64_*.deb >/dev/null 2>&1; then
+  # Images often ship without package lists: fetch them once.
+  echo "run_vcan_tests: no package lists, running apt-get update"
+  apt-get update -qq || true
+  pkg="$(kernel_package)"
+fi
 if [ -z "$pkg" ]; then
   # No package lists (apt-get update never ran): use a kernel package already in the cache.
   deb="$(ls -1 "$cache"/linux-image-*-amd64_*.deb 2>/dev/null | sort -V | tail -n 1 || true)"

@@ -1,0 +1,134 @@
+#!/usr/bin/env bash
+# Latency of volcompd's cycle against a loopback Modbus TCP server (volcomp-sim), beside the bare
+# libmodbus FC03+FC16 transaction against the same server in the same run (both processes pinned
+# to one CPU), then volcompd itself at 1 kHz for SUSTAIN_S seconds counting overruns.
+#
+# Usage: bench/daemon/run_latency.sh            (after ./scripts/build.sh)
+# Environment: BUILD_DIR (default ./build), CPU (the CPU of the latency run, default the last),
+#   SERVER_CPU (the simulator's CPU in the sustained run, default 0), SAMPLES (default 20000),
+#   SUSTAIN_S (default 60), RT=1 to run both under SCHED_FIFO 50 (chrt; needs the privilege).
+set -euo pipefail
+
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+build="${BUILD_DIR:-$root/build}"
+examples="$root/config/examples"
+sim="$build/tools/sim/volcomp-sim"
+daemon="$build/daemon/volcompd"
+harness="$build/bench/daemon/volcomp-bench-cycle"
+cpu="${CPU:-$(($(nproc) - 1))}"
+server_cpu="${SERVER_CPU:-0}"
+samples="${SAMPLES:-20000}"
+sustain="${SUSTAIN_S:-60}"
+prio=()
+if [ "${RT:-0}" = "1" ]; then prio=(chrt -f 50); fi
+
+for exe in "$sim" "$daemon" "$harness"; do
+  [ -x "$exe" ] || { echo "run_latency: $exe not built (run ./scripts/build.sh)" >&2; exit 2; }
+done
+
+work="$(mktemp -d)"
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+# Starts the simulator with config $1 on CPU $2, output in $3.out; sets sim_pid and port.
+start_sim() {
+  local config="$1" on_cpu="$2" tag="$3"
+  taskset -c "$on_cpu" "${prio[@]}" "$sim" --config "$config" --port 0 \
+    > "$work/$tag.out" 2> "$work/$tag.err" < /dev/null &
+  sim_pid=$!
+  pids+=("$sim_pid")
+  for _ in $(seq 200); do
+    if grep -q '^LISTENING tcp' "$work/$tag.out" 2>/dev/null; then
+      port="$(awk '/^LISTENING tcp/ {print $4; exit}' "$work/$tag.out")"
+      return 0
+    fi
+    sleep 0.05
+  done
+  echo "run_latency: the simulator did not start: $(cat "$work/$tag.err")" >&2
+  return 1
+}
+
+# Writes a JSON file from an example with edits: edit_json SRC DST PYTHON-STATEMENTS (on `d`).
+edit_json() {
+  python3 - "$1" "$2" "$3" <<'EOF'
+import json, sys
+d = json.load(open(sys.argv[1]))
+exec(sys.argv[3])
+json.dump(d, open(sys.argv[2], "w"), indent=2)
+EOF
+}
+
+echo "machine: $(lscpu | sed -n 's/^Model name:[[:space:]]*//p'), $(nproc) CPUs, kernel $(uname -r)"
+echo "pinning: latency run on CPU $cpu (server and client); sustained run: volcompd on CPU $cpu, server on CPU $server_cpu${RT:+, RT=$RT}"
+
+# ---- 1. cycle latency vs bare transaction -------------------------------------------------
+edit_json "$examples/sim-vmc.json" "$work/sim.json" "
+d['model'] = '$examples/vmc-xyfz-21.json'
+d['heartbeat_timeout_ms'] = 0"
+start_sim "$work/sim.json" "$cpu" sim1
+edit_json "$examples/volcompd-modbus-tcp.json" "$work/volcompd.json" "
+d['model'] = '$examples/vmc-xyfz-21.json'
+d['transport']['port'] = $port
+d['log_level'] = 'warn'"
+result="$(taskset -c "$cpu" "${prio[@]}" "$harness" --config "$work/volcompd.json" \
+  --samples "$samples" --rounds 10 --period-us 1000)"
+kill "$sim_pid"; wait "$sim_pid" 2>/dev/null || true; pids=()
+python3 - "$result" <<'EOF'
+import json, sys
+r = json.loads(sys.argv[1])
+print(f"\ncycle latency, {r['daemon_cycle']['n']} cycles each, paced at {r['period_us']} us, "
+      f"FC03 {r['read_registers']} + FC16 {r['write_registers']} registers, model '{r['model']}'")
+print(f"{'':28}{'median':>10}{'p99':>10}{'p99.9':>10}{'max':>10}  (us)")
+for name, key in (("volcompd cycle (step)", "daemon_cycle"), ("bare libmodbus FC03+FC16", "bare_fc03_fc16")):
+    s = r[key]
+    print(f"{name:28}{s['median_us']:10.1f}{s['p99_us']:10.1f}{s['p99_9_us']:10.1f}{s['max_us']:10.1f}")
+print(f"ratio cycle/bare: median {r['ratio_median']:.3f}, p99 {r['ratio_p99']:.3f} (target <= 1.2)")
+if r['cycles_not_active'] or r['bare_errors']:
+    print(f"note: {r['cycles_not_active']} cycles not active, {r['bare_errors']} bare errors")
+EOF
+
+# ---- 2. volcompd at 1 kHz for $sustain s ---------------------------------------------------
+edit_json "$examples/sim-vmc.json" "$work/sim1k.json" "
+d['model'] = '$examples/vmc-xyfz-21.json'
+d['limits']['cycle_ms'] = 1
+d['limits']['rate_tolerance_ms'] = 1"
+start_sim "$work/sim1k.json" "$server_cpu" sim2
+edit_json "$examples/volcompd-modbus-tcp.json" "$work/volcompd1k.json" "
+d['model'] = '$examples/vmc-xyfz-21.json'
+d['transport']['port'] = $port
+d['cycle_period_ms'] = 1
+d['log_level'] = 'info'"
+taskset -c "$cpu" "${prio[@]}" "$daemon" --config "$work/volcompd1k.json" 2> "$work/volcompd1k.err" &
+daemon_pid=$!
+pids+=("$daemon_pid")
+echo
+echo "volcompd at 1 kHz for $sustain s ..."
+sleep "$sustain"   # the measurement's duration, not a synchronisation
+kill -TERM "$daemon_pid"
+daemon_rc=0
+wait "$daemon_pid" || daemon_rc=$?
+kill -TERM "$sim_pid"
+wait "$sim_pid" 2>/dev/null || true
+pids=()
+stopped="$(grep -o 'stopped after [0-9]* cycles ([0-9]* overruns)' "$work/volcompd1k.err" || true)"
+skipped="$(grep -o '([0-9]* deadlines skipped in total)' "$work/volcompd1k.err" | tail -1 || true)"
+report="$(grep '^{' "$work/sim2.out" | tail -1)"
+python3 - "$sustain" "$stopped" "$skipped" "$report" "$daemon_rc" <<'EOF'
+import json, re, sys
+sustain, stopped, skipped, report, rc = sys.argv[1:6]
+m = re.search(r"after (\d+) cycles \((\d+) overruns\)", stopped)
+cycles, overruns = (int(m.group(1)), int(m.group(2))) if m else (None, None)
+missed = re.search(r"\((\d+) deadlines", skipped)
+r = json.loads(report) if report else {}
+print(f"cycles {cycles} in {sustain} s (expected {int(float(sustain) * 1000)}), overruns {overruns}, "
+      f"deadlines skipped {missed.group(1) if missed else 0}, exit status {rc}")
+if r:
+    print(f"controller saw {r['writes']} writes, {r['limiter_violations']} limiter violations, "
+          f"{r['requests_unanswered']} unanswered requests; error RMS "
+          f"{r['rms_uncompensated_um']:.2f} -> {r['rms_compensated_um']:.3f} um")
+EOF

@@ -2,7 +2,6 @@
 
 #include <fstream>
 #include <ostream>
-#include <stdexcept>
 
 #include "volcomp/calibration/measurements.hpp"
 #include "volcomp/calibration/report.hpp"
@@ -12,6 +11,9 @@ namespace volcomp::calibration {
 namespace {
 
 using config::ConfigError;
+
+// Option errors are reported like file errors ("command line: --loss: ..."), exit status 2.
+constexpr const char* kCommandLine = "command line";
 
 void writeJsonFile(const std::string& path, const nlohmann::json& document) {
   std::ofstream file(path);
@@ -29,14 +31,19 @@ int runCalibrate(const CalibrateOptions& options, std::ostream& out) {
   } else if (options.loss == "cauchy") {
     solveOptions.loss = RobustLoss::Cauchy;
   } else if (options.loss != "none") {
-    throw std::invalid_argument("--loss: expected none, huber or cauchy, got " + options.loss);
+    throw ConfigError(kCommandLine, "--loss",
+                      "expected none, huber or cauchy, got " + options.loss);
   }
   if (options.method != "auto" && options.method != "linear" && options.method != "lm") {
-    throw std::invalid_argument("--method: expected auto, linear or lm, got " + options.method);
+    throw ConfigError(kCommandLine, "--method",
+                      "expected auto, linear or lm, got " + options.method);
   }
-  if (!(options.lossScaleMm > 0.0)) throw std::invalid_argument("--loss-scale: expected > 0");
+  if (!(options.lossScaleMm > 0.0)) throw ConfigError(kCommandLine, "--loss-scale", "expected > 0");
   if (!(options.rankTolerance > 0.0 && options.rankTolerance < 1.0)) {
-    throw std::invalid_argument("--rank-tol: expected a value in (0, 1)");
+    throw ConfigError(kCommandLine, "--rank-tol", "expected a value in (0, 1)");
+  }
+  if (options.method == "linear" && solveOptions.loss != RobustLoss::None) {
+    throw ConfigError(kCommandLine, "--loss", "a robust loss needs --method lm (or auto)");
   }
   solveOptions.lossScale = options.lossScaleMm;
   solveOptions.rankTolerance = options.rankTolerance;
@@ -61,9 +68,6 @@ int runCalibrate(const CalibrateOptions& options, std::ostream& out) {
   const bool linear =
       options.method == "linear" || (options.method == "auto" && problem->nearlyLinear() &&
                                      solveOptions.loss == RobustLoss::None);
-  if (linear && solveOptions.loss != RobustLoss::None) {
-    throw std::invalid_argument("--loss needs --method lm (or auto)");
-  }
   solveOptions.method = linear ? Method::Linear : Method::LevenbergMarquardt;
   out << "identifying " << problem->parameterCount() << " parameters ("
       << (linear ? "linear identification" : "Levenberg-Marquardt") << ")" << std::endl;

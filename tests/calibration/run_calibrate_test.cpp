@@ -182,5 +182,23 @@ TEST_F(RunCalibrate, TemplateWithoutIdentifyBlocksIsRejected) {
   EXPECT_FALSE(fs::exists(options.outPath));
 }
 
+TEST_F(RunCalibrate, RobustLossWithTheLinearMethodIsAnOptionError) {
+  CalibrateOptions options;
+  options.templatePath = write("template.json", templateText(false));
+  options.measurementsPath = write("points.csv", measurementCsv());
+  options.outPath = path("model.json");
+  options.method = "linear";
+  options.loss = "huber";
+  std::ostringstream out;
+  try {
+    runCalibrate(options, out);
+    FAIL() << "expected a ConfigError";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.keyPath(), "--loss");
+  }
+  EXPECT_TRUE(out.str().empty());  // rejected before any work
+  EXPECT_FALSE(fs::exists(options.outPath));
+}
+
 }  // namespace
 }  // namespace volcomp::calibration

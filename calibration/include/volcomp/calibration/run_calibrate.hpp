@@ -29,8 +29,8 @@ struct CalibrateOptions {
 
 /// Runs the calibration: progress and the summary go to `out`. Returns 0 on success (also when
 /// the data leave parameters unidentifiable: that is reported, not an error). Throws
-/// config::ConfigError for bad files and std::invalid_argument for bad option values, which the
-/// CLI reports as exit status 2.
+/// config::ConfigError for bad files and for bad option values (file "command line", key the
+/// option), which the CLI reports as exit status 2.
 int runCalibrate(const CalibrateOptions& options, std::ostream& out);
 
 }  // namespace volcomp::calibration

@@ -249,3 +249,27 @@ TEST(CanConfig, TakesLayoutsFromADbcFileRelativeToTheConfig) {
 
 }  // namespace
 }  // namespace volcomp::can
+
+namespace volcomp::can {
+namespace {
+
+// The example of docs/can.md (tests/can/data): a DBC and the transport section using it.
+TEST(CanConfig, DocumentedExampleLoads) {
+  const std::string file = std::string(VOLCOMP_CAN_TEST_DATA) + "/can-transport.json";
+  std::ifstream in(file);
+  ASSERT_TRUE(in) << file;
+  const nlohmann::json document = nlohmann::json::parse(in);
+  const CanLayout layout = loadCanLayout(document.at("transport"), file, "transport");
+  EXPECT_EQ(layout.interfaceName, "can0");
+  EXPECT_TRUE(layout.hasSequence);
+  EXPECT_TRUE(layout.hasAppliedOffsets);
+  ASSERT_EQ(layout.inputFrames.size(), 3u);
+  ASSERT_EQ(layout.outputFrames.size(), 2u);
+  EXPECT_EQ(layout.outputFrames[0].id, 768u);
+  EXPECT_EQ(layout.outputFrames[0].length, 8u);
+  EXPECT_EQ(layout.outputFrames[1].length, 1u);
+  EXPECT_EQ(layout.staleTimeout, std::chrono::milliseconds(100));
+}
+
+}  // namespace
+}  // namespace volcomp::can

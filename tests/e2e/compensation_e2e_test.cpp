@@ -6,6 +6,7 @@
 // hysteresis at reversals: the RMS error must fall by at least 95 %, on every axis.
 
 #include <cmath>
+#include <ostream>
 #include <string>
 #include <tuple>
 
@@ -18,6 +19,11 @@ struct Case {
   const char* transport;  // "tcp" or "rtu"
   const char* semantics;  // "commanded" or "actual"
 };
+
+// Readable test names in CTest ("GetParam() = tcp/actual").
+void PrintTo(const Case& c, std::ostream* out) {
+  *out << c.transport << '/' << c.semantics;
+}
 
 class Compensation : public ProcessTest, public ::testing::WithParamInterface<Case> {};
 

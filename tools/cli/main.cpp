@@ -1,4 +1,4 @@
-// volcomp: command-line access to volumetric error models (verbs `eval` and `check`).
+// volcomp: command-line access to volumetric error models (verbs `eval`, `check`, `calibrate`).
 // Errors are caught here only: one line on stderr, exit status 2 for bad arguments or files.
 
 #include <exception>
@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "calibrate_verb.hpp"
 #include "check_verb.hpp"
 #include "cli_support.hpp"
 #include "eval_verb.hpp"
@@ -41,6 +42,8 @@ int main(int argc, char** argv) {
   CheckOptions checkOptions;
   CLI::App* eval = addEvalVerb(app, evalOptions);
   CLI::App* check = addCheckVerb(app, checkOptions);
+  volcomp::calibration::CalibrateOptions calibrateOptions;
+  CLI::App* calibrate = addCalibrateVerb(app, calibrateOptions);
 
   try {
     app.parse(argc, argv);
@@ -53,6 +56,7 @@ int main(int argc, char** argv) {
   try {
     if (eval->parsed()) return runEval(evalOptions, std::cout, std::cerr);
     if (check->parsed()) return runCheck(checkOptions, std::cout);
+    if (calibrate->parsed()) return volcomp::calibration::runCalibrate(calibrateOptions, std::cout);
   } catch (const volcomp::config::ConfigError& e) {
     std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
     return kExitBadInput;

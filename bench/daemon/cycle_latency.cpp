@@ -118,9 +118,10 @@ int main(int argc, char** argv) {
     volcomp::daemon::SteadyClock clock;
     const Clock::duration period = std::chrono::microseconds(periodUs);
     const int perRound = std::max(1, samples / rounds);
-    std::vector<double> cycleUs, bareUs;
+    std::vector<double> cycleUs, bareUs, wakeLateUs;
     cycleUs.reserve(static_cast<std::size_t>(perRound * rounds));
     bareUs.reserve(static_cast<std::size_t>(perRound * rounds));
+    wakeLateUs.reserve(static_cast<std::size_t>(perRound * rounds));
     std::uint64_t bareErrors = 0, cycleNotActive = 0;
     std::vector<std::uint16_t> readBuffer(plan.holdingRead.count), writeBuffer(plan.write.count);
 
@@ -135,8 +136,10 @@ int main(int argc, char** argv) {
         }
         for (int i = 0; i < perRound; ++i) {
           std::this_thread::sleep_until(next);
-          next += period;
           const auto t0 = Clock::now();
+          // How late the thread woke for its deadline: the platform's share of an overrun.
+          wakeLateUs.push_back(microseconds(t0 - next));
+          next += period;
           loop.step();
           const auto t1 = Clock::now();
           if (loop.state() == LoopState::Active) {
@@ -185,6 +188,7 @@ int main(int argc, char** argv) {
 
     const Summary cycle = summarise(cycleUs);
     const Summary bare = summarise(bareUs);
+    const Summary wakeLate = summarise(wakeLateUs);
     const nlohmann::json result{
         {"period_us", periodUs},
         {"rounds", rounds},
@@ -193,6 +197,7 @@ int main(int argc, char** argv) {
         {"model", loaded.model->name()},
         {"daemon_cycle", toJson(cycle)},
         {"bare_fc03_fc16", toJson(bare)},
+        {"wake_late", toJson(wakeLate)},
         {"cycles_not_active", cycleNotActive},
         {"bare_errors", bareErrors},
         {"ratio_median", bare.medianUs > 0 ? cycle.medianUs / bare.medianUs : 0.0},

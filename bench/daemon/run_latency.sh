@@ -87,6 +87,8 @@ print(f"{'':28}{'median':>10}{'p99':>10}{'p99.9':>10}{'max':>10}  (us)")
 for name, key in (("volcompd cycle (step)", "daemon_cycle"), ("bare libmodbus FC03+FC16", "bare_fc03_fc16")):
     s = r[key]
     print(f"{name:28}{s['median_us']:10.1f}{s['p99_us']:10.1f}{s['p99_9_us']:10.1f}{s['max_us']:10.1f}")
+w = r["wake_late"]
+print(f"{'wake-up lateness (pacing)':28}{w['median_us']:10.1f}{w['p99_us']:10.1f}{w['p99_9_us']:10.1f}{w['max_us']:10.1f}")
 print(f"ratio cycle/bare: median {r['ratio_median']:.3f}, p99 {r['ratio_p99']:.3f} (target <= 1.2)")
 if r['cycles_not_active'] or r['bare_errors']:
     print(f"note: {r['cycles_not_active']} cycles not active, {r['bare_errors']} bare errors")

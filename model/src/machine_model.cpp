@@ -13,8 +13,9 @@
 #include "small_angle.hpp"
 #include "volcomp/model/so3.hpp"
 
-// GCC or Clang on x86-64: the kernels are built twice and picked at run time (see below).
-#if defined(__x86_64__) && defined(__GNUC__)
+// GCC on x86-64: the kernels are built twice and picked at run time (see below). Clang spells the
+// target pragma differently (and warns about GCC's), so it builds the baseline kernels only.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define VOLCOMP_MODEL_X86_DISPATCH 1
 #else
 #define VOLCOMP_MODEL_X86_DISPATCH 0

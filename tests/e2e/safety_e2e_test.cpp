@@ -253,6 +253,41 @@ TEST_F(Safety, RestartedControllerOnTheSamePortGetsNoJump) {
   EXPECT_TRUE(rows.back().status & kActive);
 }
 
+// The daemon hangs (SIGSTOP: a starved or stuck process) with the link up; the controller's
+// heartbeat watchdog (300 ms) removes the offsets itself, as daemon.md section 3 asks of the PLC.
+// When the daemon runs again (SIGCONT) the controller applies zero, so its first write may step
+// from zero by one limiter step at most (0.05 mm/s * 10 ms = 0.5 um, plus one count); writing
+// the offsets it held before the hang (>= 4 um) would be a jump at the machine.
+TEST_F(Safety, ResumedDaemonContinuesFromWhatTheControllerApplies) {
+  configure(0.1, 0.05, exampleFile("vmc-xyfz-21.json"));
+  sim_cfg_["heartbeat_timeout_ms"] = 300;
+  sim_cfg_["watchdog_ramp_mm_s"] = 0.5;
+  const Listening at = startSim(sim_cfg_, {"--port", "0"});
+  startDaemon(daemonFor(at));
+  ASSERT_TRUE(waitForAppliedOffset(0.004)) << daemonLog();
+  daemon_->signal(SIGSTOP);
+  std::size_t writesBefore = 0;
+  ASSERT_TRUE(waitForSim(
+      [&](const json& s) {
+        writesBefore = s["writes"].get<std::size_t>();
+        return s["watchdog_trips"].get<int>() >= 1 &&
+               largestAbs(s["applied_offset_mm"].get<std::array<double, 3>>()) == 0.0;
+      },
+      10s));
+  daemon_->signal(SIGCONT);
+  ASSERT_TRUE(waitForMoreWrites(*sim_, 30)) << daemonLog();
+  const json report = finishSim();
+  stopDaemon();
+  const auto rows = record();
+  ASSERT_GT(rows.size(), writesBefore) << daemonLog();
+  EXPECT_GE(largestAbs(rows[writesBefore - 1].offsetMm), 0.004 - kQuantumMm);
+  EXPECT_LE(largestAbs(rows[writesBefore].offsetMm), 0.05 * kPeriodS + kQuantumMm + 1e-9)
+      << "first write after the hang at t=" << rows[writesBefore].tS << ": "
+      << rows[writesBefore].offsetMm[0] << ", " << rows[writesBefore].offsetMm[1] << ", "
+      << rows[writesBefore].offsetMm[2] << " mm while the controller applied zero";
+  EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
+}
+
 // Stall (the controller receives requests and never answers) for 0.6 s: transactions time out
 // (50 ms each), the daemon declares the link lost after 3, reconnects when the controller
 // answers again and continues from the read-back. Nothing can be written while the controller

@@ -207,6 +207,34 @@ TEST_F(Safety, DroppedLinkReconnectsAndContinuesWithoutAJump) {
   EXPECT_NE(daemonLog().find("link lost"), std::string::npos) << daemonLog();
 }
 
+// RTU: a silent controller (drop-link on a serial line: no answers for 0.8 s) costs timeouts,
+// the daemon declares the link lost, reopens the device and continues without a jump.
+TEST_F(Safety, RtuSilenceReconnectsAndContinuesWithoutAJump) {
+  configure(0.1, 0.5, exampleFile("vmc-xyfz-21.json"));
+  const Listening at =
+      startSim(sim_cfg_, {"--rtu", "--duration", "4", "--event", "1.5:drop-link:0.8"});
+  ASSERT_EQ(at.kind, "rtu");
+  json d = daemonConfig(at, model_, "volcompd-modbus-rtu.json");
+  const double periodS = d["cycle_period_ms"].get<double>() / 1000.0;
+  startDaemon(d);
+  const json report = finishSim(/*sendQuit=*/false);
+  stopDaemon();
+  EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
+  EXPECT_GT(report["requests_unanswered"].get<int>(), 0);
+  const auto rows = record();
+  ASSERT_FALSE(rows.empty()) << daemonLog();
+  expectWritesWithinLimits(rows, 0.1, 0.5, periodS);
+  std::size_t gap = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    if (rows[i].tS - rows[i - 1].tS > 0.5) gap = i;
+  }
+  ASSERT_GT(gap, 0U) << "no outage in the record";
+  EXPECT_GE(rows[gap].tS, 2.3);
+  EXPECT_GT(rows.back().tS, 3.5) << daemonLog();
+  EXPECT_TRUE(rows.back().status & kActive);
+  EXPECT_NE(daemonLog().find("link lost"), std::string::npos) << daemonLog();
+}
+
 // The controller process dies (SIGTERM: it records its writes and exits) and a new one starts
 // on the same port holding the offsets the old one applied (as a real controller keeps them):
 // the daemon reconnects on its own and its first write steps from those by at most max_rate*dt.

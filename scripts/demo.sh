@@ -29,9 +29,9 @@ work="$(mktemp -d)"
 daemon_pid=""
 listener_pid=""
 cleanup() {
-  [ -n "$daemon_pid" ] && kill "$daemon_pid" 2>/dev/null || true
-  [ -n "$listener_pid" ] && kill "$listener_pid" 2>/dev/null || true
-  [ -n "${SIM_PID:-}" ] && kill "$SIM_PID" 2>/dev/null || true
+  for p in "$daemon_pid" "$listener_pid" "${SIM_PID:-}"; do
+    if [ -n "$p" ]; then kill "$p" 2>/dev/null || true; fi
+  done
   wait 2>/dev/null || true
   rm -rf "$work"
 }

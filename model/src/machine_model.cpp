@@ -156,9 +156,9 @@ std::shared_ptr<const EvalPlan> buildPlan(
     }
     axis.groupEnd = static_cast<int>(plan->groups.size());
     axis.allTabulated = axis.groupEnd - axis.groupBegin == 1 && plan->groups.back().full;
+    axis.polynomialEnd = static_cast<int>(plan->polynomials.size());
     axis.uniformTabulated = axis.allTabulated && plan->groups.back().axis.uniform &&
                             axis.polynomialBegin == axis.polynomialEnd;
-    axis.polynomialEnd = static_cast<int>(plan->polynomials.size());
   }
   const double* data = plan->data.data();
   for (std::size_t g = 0; g < plan->groups.size(); ++g) {

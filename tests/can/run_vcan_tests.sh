@@ -2,9 +2,12 @@
 # Runs the SocketCAN test executable on a real (virtual) CAN interface.
 #
 #   run_vcan_tests.sh [--cache DIR] [--mode auto|direct|qemu] [--timeout SECONDS] [--data DIR]
-#                     TEST_EXE [ARGS...]
+#                     [--copy PATH]... TEST_EXE [ARGS...]
 #
 # --data DIR: files the tests read (found through $VOLCOMP_CAN_DATA; copied into the guest).
+# --copy PATH: a file or folder the tests use by its absolute path (e.g. volcomp-sim and volcompd
+#         started as processes); copied into the guest at the same path, an executable with its
+#         shared libraries and loader.
 # direct: this kernel can create a vcan interface (CAN modules present and CAP_NET_ADMIN): a
 #         uniquely named vcan interface is created, the tests run against it, it is deleted.
 # qemu:   otherwise. Debian's kernel package (linux-image-6.1.0-NN-amd64, NN from
@@ -23,12 +26,14 @@ cache=""
 mode=auto
 timeout_s=600
 data=""
+copies=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --cache) cache="$2"; shift 2 ;;
     --mode) mode="$2"; shift 2 ;;
     --timeout) timeout_s="$2"; shift 2 ;;
     --data) data="$(readlink -f "$2")"; shift 2 ;;
+    --copy) copies+=("$(readlink -f "$2")"); shift 2 ;;
     --) shift; break ;;
     -*) echo "run_vcan_tests: unknown option $1" >&2; exit 2 ;;
     *) break ;;
@@ -141,6 +146,17 @@ copy_with_libs() {  # copies an executable and, when dynamic, its libraries and 
     cp -L "$lib" "$root$lib"
   done
 }
+for p in ${copies[@]+"${copies[@]}"}; do
+  [ -e "$p" ] || fail "--copy $p: no such file"
+  mkdir -p "$root$(dirname "$p")"
+  if [ -d "$p" ]; then
+    mkdir -p "$root$p" && cp -r "$p"/. "$root$p/"
+  elif [ -x "$p" ]; then
+    copy_with_libs "$p" "$p"
+  else
+    cp "$p" "$root$p"
+  fi
+done
 copy_with_libs "$test_exe" /bin/volcomp-tests
 copy_with_libs "$(command -v cansend)" /bin/cansend
 copy_with_libs "$(command -v candump)" /bin/candump

@@ -1,5 +1,6 @@
-// volcomp-sim: the simulated machine and controller (daemon spec section 6). See
-// docs/modbus.md for usage; the report is one JSON line on stdout at the end.
+// volcomp-sim: the simulated machine and controller (daemon spec section 6), served over Modbus
+// TCP/RTU or CAN. See docs/modbus.md and docs/can.md for usage; the report is one JSON line on
+// stdout at the end.
 #include <poll.h>
 #include <signal.h>
 #include <unistd.h>
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -19,6 +21,7 @@
 #include <CLI/CLI.hpp>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/sim/can_server.hpp"
 #include "volcomp/sim/commands.hpp"
 #include "volcomp/sim/machine.hpp"
 #include "volcomp/sim/modbus_server.hpp"
@@ -103,8 +106,16 @@ bool pathInsideTravel(const volcomp::sim::Path& path, const volcomp::sim::Travel
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"volcomp-sim: a simulated machine and controller for volcompd (Modbus TCP/RTU)"};
-  std::string configFile, recordFile, modelOverride, semanticsOverride;
+  CLI::App app{
+      "volcomp-sim: a simulated machine and controller for volcompd (Modbus TCP/RTU, CAN)"};
+  app.footer(
+      "Fault commands (stdin, one per line, or --event T:COMMAND[:ARG...]): stall [S], "
+      "drop-link [S], exception CODE [S], freeze [S], hold [S], enable on|off, homed on|off, "
+      "resume, status, quit.\n"
+      "CAN: stall and drop-link both make the node silent (socket closed: no input frames, no SYNC "
+      "answers, writes not received) and it reopens when they end; taking the interface down "
+      "(ip link set DEV down) is outside the simulator. exception is Modbus only.\n");
+  std::string configFile, recordFile, modelOverride, semanticsOverride, interfaceOverride;
   std::optional<int> port;
   bool rtu = false, tcp = false;
   double durationS = 0.0;
@@ -120,6 +131,8 @@ int main(int argc, char** argv) {
   app.add_option("--record", recordFile, "write every write received as CSV to this file");
   app.add_option("--event", eventSpecs,
                  "scheduled fault T:COMMAND[:ARG...], e.g. 2:drop-link:1.5 (repeatable)");
+  app.add_option("--interface", interfaceOverride,
+                 "CAN: SocketCAN interface (overrides the transport's \"interface\")");
   app.add_option("--model", modelOverride, "true error model (overrides the config's)");
   app.add_option("--semantics", semanticsOverride, "position semantics (overrides the config's)")
       ->check(CLI::IsMember({"commanded", "actual"}));
@@ -153,9 +166,26 @@ int main(int argc, char** argv) {
       std::string why;
       if (!pathInsideTravel(path, travel, why)) throw config::ConfigError(configFile, "path", why);
     }
-    if (!cfg.modbus) {
+    if (cfg.can) {
+      if (rtu || tcp || port) {
+        throw config::ConfigError(configFile, "transport.type",
+                                  "--rtu, --tcp and --port apply to Modbus, not to \"can\"");
+      }
+      for (const auto& e : events) {
+        if (e.command.kind == sim::Command::Kind::Exception) {
+          throw config::ConfigError(configFile, "transport.type",
+                                    "the exception fault is Modbus only (not with \"can\")");
+        }
+      }
+      if (!interfaceOverride.empty()) {
+        if (interfaceOverride.size() > 15) {
+          throw config::ConfigError("--interface", "", "expected 1-15 characters");
+        }
+        cfg.can->interfaceName = interfaceOverride;
+      }
+    } else if (!interfaceOverride.empty()) {
       throw config::ConfigError(configFile, "transport.type",
-                                "this volcomp-sim serves Modbus only (modbus-tcp, modbus-rtu)");
+                                "--interface applies to \"can\", not to Modbus");
     }
     // Long runs without --record keep counters only.
     cfg.machine.keepWrites = !recordFile.empty();
@@ -170,27 +200,36 @@ int main(int argc, char** argv) {
   auto now = [start] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
-  const config::ModbusConfig& modbusConfig = *cfg.modbus;
-  sim::ModbusServer server(modbusConfig.registers, modbusConfig.slaveId, *machine, now);
+  std::optional<sim::ModbusServer> modbusServer;
+  std::optional<sim::CanServer> canServer;
   try {
-    const bool serveRtu =
-        rtu || (!tcp && std::holds_alternative<config::RtuLink>(modbusConfig.link));
-    if (serveRtu) {
-      server.startRtu();
+    if (cfg.can) {
+      canServer.emplace(*cfg.can, *machine, now,
+                        std::chrono::microseconds(std::llround(cfg.canBroadcastS * 1e6)));
+      canServer->start();
+      std::cout << canServer->listeningLine() << std::endl;
     } else {
-      std::uint16_t p = 0;
-      if (port) {
-        p = static_cast<std::uint16_t>(*port);
-      } else if (const auto* t = std::get_if<config::TcpLink>(&modbusConfig.link)) {
-        p = t->port;
+      const config::ModbusConfig& modbusConfig = *cfg.modbus;
+      modbusServer.emplace(modbusConfig.registers, modbusConfig.slaveId, *machine, now);
+      const bool serveRtu =
+          rtu || (!tcp && std::holds_alternative<config::RtuLink>(modbusConfig.link));
+      if (serveRtu) {
+        modbusServer->startRtu();
+      } else {
+        std::uint16_t p = 0;
+        if (port) {
+          p = static_cast<std::uint16_t>(*port);
+        } else if (const auto* t = std::get_if<config::TcpLink>(&modbusConfig.link)) {
+          p = t->port;
+        }
+        modbusServer->startTcp(p);
       }
-      server.startTcp(p);
+      std::cout << modbusServer->listeningLine() << std::endl;
     }
   } catch (const std::exception& e) {
     std::cerr << "volcomp-sim: " << e.what() << '\n';
     return 1;
   }
-  std::cout << server.listeningLine() << std::endl;
 
   StdinCommands stdinCommands;
   std::size_t nextEvent = 0;
@@ -209,6 +248,10 @@ int main(int argc, char** argv) {
       if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
       try {
         const sim::Command command = sim::parseCommand(line);
+        if (canServer && command.kind == sim::Command::Kind::Exception) {
+          std::cerr << "volcomp-sim: exception: Modbus only, ignored on CAN\n";
+          continue;
+        }
         if (command.kind == sim::Command::Kind::Status) {
           std::cout << "STATUS " << machine->report(t).dump() << std::endl;
           continue;
@@ -220,13 +263,15 @@ int main(int argc, char** argv) {
       }
     }
     machine->sample(t);
+    if (canServer) canServer->update(t);
     if (durationS > 0.0 && t >= durationS) break;
     next += tick;
     const auto late = std::chrono::steady_clock::now();
     if (next < late) next = late;  // a late tick does not cause a burst of catch-up samples
     std::this_thread::sleep_until(next);
   }
-  server.stop();
+  if (modbusServer) modbusServer->stop();
+  if (canServer) canServer->stop();
   const double end = now();
   int status = 0;
   if (!recordFile.empty()) {
@@ -237,6 +282,8 @@ int main(int argc, char** argv) {
       status = 1;
     }
   }
-  std::cout << machine->report(end).dump() << std::endl;
+  nlohmann::json report = machine->report(end);
+  if (canServer) report["can"] = canServer->counters();
+  std::cout << report.dump() << std::endl;
   return status;
 }

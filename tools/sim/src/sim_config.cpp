@@ -1,7 +1,9 @@
 #include "volcomp/sim/sim_config.hpp"
 
+#include <cmath>
 #include <filesystem>
 
+#include "volcomp/config/config_error.hpp"
 #include "volcomp/config/json_reader.hpp"
 
 namespace volcomp::sim {
@@ -47,8 +49,8 @@ PathSpec parsePath(const JsonReader& r, const std::string& file) {
 SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file) {
   const JsonReader root(document, file);
   root.allowOnly({"model", "position_semantics", "path", "limits", "heartbeat_timeout_ms",
-                  "watchdog_ramp_mm_s", "initial_offset_mm", "settle_ms", "tick_ms", "transport",
-                  "comment"});
+                  "watchdog_ramp_mm_s", "initial_offset_mm", "settle_ms", "tick_ms",
+                  "can_broadcast_ms", "transport", "comment"});
   SimConfig c;
   c.file = file;
   if (auto m = root.find("model")) c.modelPath = resolve(file, m->string());
@@ -76,15 +78,28 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
   const JsonReader transport = root.at("transport");
   c.transportType = transport.at("type").oneOf({"modbus-tcp", "modbus-rtu", "can"});
   c.transport = transport.json();
-  if (c.transportType != "can") {
+  if (c.transportType == "can") {
+    if (auto v = root.find("can_broadcast_ms")) c.canBroadcastS = v->number(0.1, 1000.0) / 1000.0;
+  } else {
+    if (root.find("can_broadcast_ms")) {
+      throw config::ConfigError(file, "can_broadcast_ms", "applies to a CAN transport only");
+    }
     c.modbus = config::parseModbusConfig(c.transport, file, "transport");
     c.machine.limits.quantumMm = offsetQuantumMm(c.modbus->registers);
   }
   return c;
 }
 
+void resolveCanTransport(SimConfig& c) {
+  if (c.transportType != "can") return;
+  c.can = can::loadCanLayout(c.transport, c.file, "transport");
+  c.machine.limits.quantumMm = offsetQuantumMm(*c.can);
+}
+
 SimConfig loadSimConfig(const std::string& file) {
-  return parseSimConfig(config::readJsonFile(file), file);
+  SimConfig c = parseSimConfig(config::readJsonFile(file), file);
+  resolveCanTransport(c);
+  return c;
 }
 
 Path makePath(const PathSpec& s) {
@@ -101,6 +116,21 @@ Vec3 offsetQuantumMm(const config::ModbusRegisterMap& map) noexcept {
     const bool isFloat =
         f.type == config::RegisterType::Float32 || f.type == config::RegisterType::Float64;
     q[k] = isFloat ? 0.0 : 1.0 / f.countsPerMm;
+  }
+  return q;
+}
+
+Vec3 offsetQuantumMm(const can::CanLayout& layout) noexcept {
+  Vec3 q{};
+  for (const can::FrameLayout& frame : layout.outputFrames) {
+    for (const can::FieldSignal& s : frame.signals) {
+      const auto k =
+          static_cast<std::size_t>(s.field) - static_cast<std::size_t>(can::Field::OffsetX);
+      if (k >= 3) continue;
+      const bool isFloat = s.spec.valueType == can::ValueType::Float32 ||
+                           s.spec.valueType == can::ValueType::Float64;
+      q[k] = isFloat ? 0.0 : std::abs(s.spec.scale);
+    }
   }
   return q;
 }

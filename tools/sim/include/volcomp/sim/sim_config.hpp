@@ -16,8 +16,11 @@
 ///     "initial_offset_mm": [0, 0, 0],      offsets applied at start (left from an earlier run)
 ///     "settle_ms": 0,                      statistics start this long after the first write
 ///     "tick_ms": 1,                        sampling period of the error statistics
+///     "can_broadcast_ms": 1,               CAN, broadcast trigger: period of the input frames
+///                                          (the PLC cycle; 0.1 .. 1000)
 ///     "transport": { the transport section, as in the daemon's configuration: "modbus-tcp",
-///                    "modbus-rtu" (parsed here) or "can" (kept raw for the CAN node) }
+///                    "modbus-rtu" (parsed by parseSimConfig) or "can" (resolved by
+///                    resolveCanTransport), with the daemon's rules }
 ///   }
 /// The limits should be the daemon's limiter settings: the simulator checks every write with them.
 
@@ -27,6 +30,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "volcomp/can/layout.hpp"
 #include "volcomp/config/modbus_config.hpp"
 #include "volcomp/sim/machine.hpp"
 #include "volcomp/sim/path.hpp"
@@ -54,17 +58,32 @@ struct SimConfig {
   nlohmann::json transport;   ///< the whole section (key paths start at "transport")
   /// The parsed Modbus section (modbus-tcp / modbus-rtu only).
   std::optional<config::ModbusConfig> modbus;
+  /// The resolved CAN layout (set by resolveCanTransport; a DBC file is read relative to the
+  /// configuration file).
+  std::optional<can::CanLayout> can;
+  /// CAN, broadcast trigger: the input frames are sent this often (s).
+  double canBroadcastS = 0.001;
 };
 
-/// Throws config::ConfigError (file, key path, what was expected).
+/// Reads, parses and (for "can") resolves the configuration file. Throws config::ConfigError
+/// (file, key path, what was expected).
 SimConfig loadSimConfig(const std::string& file);
+/// Parses a configuration; a Modbus transport is parsed, a CAN section is kept raw in
+/// `transport` (resolveCanTransport resolves it).
 SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file);
+/// For a "can" transport: resolves the layout (reading the DBC file it names) into `can` and
+/// sets the offset quantum of the limit check from the offset signals' scale. Nothing for Modbus.
+/// Throws config::ConfigError.
+void resolveCanTransport(SimConfig& config);
 
 /// Builds the path (a CSV path is read here; errors as std::runtime_error).
 Path makePath(const PathSpec& spec);
 
 /// One register count of each offset output in mm (0 for float registers).
 Vec3 offsetQuantumMm(const config::ModbusRegisterMap& map) noexcept;
+
+/// One count of each offset output signal in mm (|scale|; 0 for float signals).
+Vec3 offsetQuantumMm(const can::CanLayout& layout) noexcept;
 
 /// Travel [min, max] per axis (mm) as a model file declares it; std::nullopt = unbounded.
 using Travel = std::array<std::optional<std::array<double, 2>>, 3>;

@@ -7,6 +7,10 @@
 namespace volcomp::daemon {
 namespace {
 
+// Rounding of a read-back register: one count of a 0.1 um register. A coarser register only makes
+// the limiter re-seed more often, which is safe.
+constexpr double kReadbackResolutionMm = 1e-4;
+
 bool allFinite(const std::array<double, 3>& v) noexcept {
   return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
 }
@@ -129,6 +133,36 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
   return true;
 }
 
+// The controller may change the applied offsets behind this loop's back: its heartbeat watchdog
+// ramps them out while the daemon is stopped or blocked, or it applies its own limits. The limiter
+// must continue from what is applied, as after a reconnect, or the next write would jump. A
+// departure within one limiter step is rounding or lag of the read-back and keeps the limiter's
+// own state (its velocity matters for the acceleration limit).
+void CompensationLoop::followController(time_point now) noexcept {
+  std::array<double, 3> applied{};
+  if (settings_.offsetReadback) {
+    if (!sample_.hasAppliedOffsets || !allFinite(sample_.appliedOffsetMm)) return;
+    applied = sample_.appliedOffsetMm;
+    const double toleranceMm =
+        settings_.limiter.maxRateMmS * seconds(settings_.period) + kReadbackResolutionMm;
+    bool departed = false;
+    for (int k = 0; k < 3; ++k) {
+      if (std::abs(applied[k] - limiter_.offsetMm[k]) > toleranceMm) departed = true;
+    }
+    if (!departed) return;
+  } else {
+    // Silent for longer than a cycle and than plcZeroAfter: the PLC has zeroed the offsets.
+    const auto silence = now - lastWriteTime_;
+    if (settings_.plcZeroAfter.count() <= 0 || silence <= settings_.period ||
+        silence < settings_.plcZeroAfter) {
+      return;
+    }
+  }
+  resetLimiter(limiter_, applied);
+  command_.offsetMm = limiter_.offsetMm;
+  ++counters_.resynchronisations;
+}
+
 FaultCode CompensationLoop::checkInputs(time_point now, std::array<double, 3>& qMm,
                                         bool& outOfTravel) noexcept {
   if (!allFinite(sample_.positionMm)) return FaultCode::InvalidInput;
@@ -227,6 +261,7 @@ CycleReport CompensationLoop::step() noexcept {
     ++counters_.readErrors;
   }
 
+  const bool wasSynced = synced_;
   if (!synced_) {
     if (readError || !synchronise(now)) {
       // Starting: write nothing until the applied offsets are known.
@@ -237,6 +272,8 @@ CycleReport CompensationLoop::step() noexcept {
       return report;
     }
   }
+
+  if (wasSynced && !readError) followController(now);
 
   std::array<double, 3> target{};
   FaultCode fault = FaultCode::None;

@@ -272,6 +272,50 @@ TEST_F(LoopTest, FailedWriteIsRetriedFromTheValueTheControllerHas) {
   EXPECT_EQ(loop->counters().writeErrors, 1u);
 }
 
+// The daemon was stopped or blocked with the link up (SIGSTOP, a stuck transaction) and the PLC's
+// heartbeat watchdog ramped the applied offsets out meanwhile: the next write continues from what
+// is applied (one step from it), not from what this loop last wrote.
+TEST_F(LoopTest, AppliedOffsetsChangedByThePlcAreFollowedWithoutAJump) {
+  make();
+  runUntilSettled();
+  ASSERT_DOUBLE_EQ(port.last.offsetMm[2], 0.03);
+  port.applied = {0.0, 0.0, 0.0};  // the PLC zeroed them while we were not running
+  const CycleReport r = cycle();
+  ASSERT_TRUE(r.wrote);
+  // From 0 applied, towards the model's (0.01, -0.02, 0.03): one step of 0.01 at most.
+  EXPECT_NEAR(port.last.offsetMm[0], kStep, kEps);
+  EXPECT_NEAR(port.last.offsetMm[1], -kStep, kEps);
+  EXPECT_NEAR(port.last.offsetMm[2], kStep, kEps);
+  EXPECT_EQ(loop->counters().resynchronisations, 1u);
+}
+
+// A read-back within one step of what was written (rounding, lag) does not re-seed the limiter.
+TEST_F(LoopTest, ReadBackWithinOneStepKeepsTheLimiterState) {
+  make();
+  runUntilSettled();
+  port.holdApplied = true;
+  port.applied = {0.01, -0.02, 0.03 - 0.5 * kStep};
+  cycle();
+  EXPECT_DOUBLE_EQ(port.last.offsetMm[2], 0.03);
+  EXPECT_EQ(loop->counters().resynchronisations, 0u);
+}
+
+// Without a read-back, a loop that has not written for plcZeroAfter knows the PLC has zeroed the
+// offsets and ramps up from zero.
+TEST_F(LoopTest, WithoutReadBackALongSilenceRestartsFromZero) {
+  port.readback = false;
+  settings.offsetReadback = false;
+  settings.plcZeroAfter = std::chrono::milliseconds(200);
+  make();
+  for (int i = 0; i < 20; ++i) cycle();
+  runUntilSettled();
+  ASSERT_DOUBLE_EQ(port.last.offsetMm[2], 0.03);
+  clock.advance(std::chrono::milliseconds(500));  // the process was stopped for half a second
+  cycle();
+  EXPECT_NEAR(port.last.offsetMm[2], kStep, kEps);
+  EXPECT_EQ(loop->counters().resynchronisations, 1u);
+}
+
 // --- link lost -------------------------------------------------------------------------------
 
 TEST_F(LoopTest, LinkLossReconnectsWithBoundedBackoffAndContinuesFromReadBack) {

@@ -72,6 +72,9 @@ struct LoopCounters {
   std::uint64_t reconnects = 0;  ///< successful connects after a link loss
   std::uint64_t faultCycles = 0;
   std::uint64_t limitedCycles = 0;
+  /// Times the limiter was re-seeded from the applied offsets because they departed from what
+  /// this loop last wrote (the PLC ramped them out while the daemon was stopped or blocked).
+  std::uint64_t resynchronisations = 0;
 };
 
 class CompensationLoop {
@@ -113,6 +116,7 @@ class CompensationLoop {
   void enterLinkLost(time_point now, CycleReport& report) noexcept;
   bool tryConnect(time_point now, CycleReport& report) noexcept;
   bool synchronise(time_point now) noexcept;
+  void followController(time_point now) noexcept;
   FaultCode checkInputs(time_point now, std::array<double, 3>& qMm, bool& outOfTravel) noexcept;
   void writeCommand(time_point now, std::uint16_t status, CycleReport& report) noexcept;
 

@@ -6,11 +6,15 @@
 # compensation. Exit status 0 when compensation at least halved the RMS error with no limiter
 # violation and a clean daemon stop, 1 otherwise, 2 when something could not start.
 #
-# Usage: ./scripts/demo.sh [SECONDS]      (default 10; after ./scripts/setup-debian.sh and
-#                                          ./scripts/build.sh; BUILD_DIR as for build.sh)
+# Usage: ./scripts/demo.sh [SECONDS]      (default 10). It first runs ./scripts/setup-debian.sh
+#        and ./scripts/build.sh (BUILD_DIR as for build.sh); DEMO_NO_BUILD=1 skips both.
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
+if [ "${DEMO_NO_BUILD:-}" != 1 ]; then
+  "$root/scripts/setup-debian.sh"
+  "$root/scripts/build.sh"
+fi
 build="${BUILD_DIR:-$root/build}"
 examples="$root/config/examples"
 seconds="${1:-10}"

@@ -1,72 +1,29 @@
-// The hot path does not allocate: every heap allocation on this thread is counted by a replaced
-// global operator new while the loop steps through all its states, with fakes and with the real
+// The hot path does not allocate: every heap allocation on this thread is counted by the shared
+// allocation counter (malloc or the global operator new replaced) while the loop steps through
+// all its states, with fakes and with the real
 // model (solveOffset on an example model file).
 
-// GCC pairs the replaced operator delete (free) with operator new at inlined call sites and warns
-// about a mismatch that is not one: our operator new allocates with malloc.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
+#include <cmath>
+#include <cstdint>
 #include <string>
 
+#include "allocation_counter.hpp"
 #include "loop_fixture.hpp"
 #include "volcomp/daemon/compensation_model.hpp"
-
-namespace {
-std::atomic<long> allocations{0};
-thread_local bool counting = false;
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (counting) allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  return operator new(size);
-}
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  if (counting) allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(size == 0 ? 1 : size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept {
-  return operator new(size, tag);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace volcomp::daemon::testing {
 namespace {
 
-class Counting {
- public:
-  Counting() {
-    allocations = 0;
-    counting = true;
-  }
-  ~Counting() { counting = false; }
-  long count() const { return allocations.load(); }
-};
+using Counting = volcomp::testutil::AllocationScope;
 
 TEST(NoAllocation, CountingOperatorNewSeesAllocations) {
   Counting c;
   auto* p = new std::string(100, 'x');  // the counter works at all
-  const long n = c.count();
+  const std::uint64_t n = c.count();
   delete p;
-  EXPECT_GE(n, 1);
+  EXPECT_GE(n, 1U);
 }
 
 TEST_F(LoopTest, NoAllocationPerCycleInAnyState) {
@@ -90,7 +47,7 @@ TEST_F(LoopTest, NoAllocationPerCycleInAnyState) {
   loop->requestStop();
   for (int i = 0; i < 100 && !loop->finished(); ++i) cycle();  // stopping
   EXPECT_TRUE(loop->finished());
-  EXPECT_EQ(c.count(), 0);
+  EXPECT_EQ(c.count(), 0U);
 }
 
 TEST(NoAllocation, RealModelOffsetSolveDoesNotAllocate) {
@@ -110,7 +67,7 @@ TEST(NoAllocation, RealModelOffsetSolveDoesNotAllocate) {
     const CycleReport r = loop.step();
     ASSERT_EQ(r.state, LoopState::Active) << faultName(r.fault);
   }
-  EXPECT_EQ(c.count(), 0);
+  EXPECT_EQ(c.count(), 0U);
   for (double o : port.last.offsetMm) EXPECT_TRUE(std::isfinite(o));
 }
 

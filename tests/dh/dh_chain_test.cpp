@@ -294,20 +294,20 @@ TEST(DhChain, EvaluateDoesNotAllocate) {
   const DhChain standard(chainOf(DhConvention::Standard, links));
   const DhChain modified(chainOf(DhConvention::Modified, links));
   // The counter must see an ordinary allocation, or the check below proves nothing.
-  const auto beforeVector = volcomp::test::allocationCount();
+  const auto beforeVector = volcomp::testutil::allocationCount();
   {
     std::vector<double> probe(1000, 1.0);
     EXPECT_EQ(probe.size(), 1000u);
   }
-  EXPECT_GT(volcomp::test::allocationCount(), beforeVector);
+  EXPECT_GT(volcomp::testutil::allocationCount(), beforeVector);
 
   double sum = 0.0;
-  const auto before = volcomp::test::allocationCount();
+  const auto before = volcomp::testutil::allocationCount();
   for (int i = 0; i < 100; ++i) {
     const double q[] = {i * kDeg, 100.0 + i, 50.0 - i};
     sum += standard.evaluate(q).errorMm.sum() + modified.evaluate(q).angularErrorRad.sum();
   }
-  EXPECT_EQ(volcomp::test::allocationCount(), before);
+  EXPECT_EQ(volcomp::testutil::allocationCount(), before);
   EXPECT_TRUE(std::isfinite(sum));
 }
 

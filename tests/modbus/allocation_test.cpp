@@ -1,53 +1,20 @@
 // The driver's hot path (read + write per cycle, including failed transactions) never allocates.
-// malloc/calloc/realloc are interposed and counted on the calling thread only, so the simulator's
-// server thread (which records every write) does not disturb the count.
+// The shared allocation counter interposes malloc/calloc/realloc; it counts the calling thread
+// only, so the simulator's server thread (which records every write) does not disturb the count.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 
 #include <gtest/gtest.h>
 
+#include "allocation_counter.hpp"
 #include "loopback_fixture.hpp"
 #include "volcomp/modbus/error.hpp"
-
-namespace {
-thread_local bool tCounting = false;
-thread_local std::uint64_t tAllocations = 0;
-}  // namespace
-
-#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
-extern "C" {
-void* __libc_malloc(std::size_t size) noexcept;
-void* __libc_calloc(std::size_t count, std::size_t size) noexcept;
-void* __libc_realloc(void* pointer, std::size_t size) noexcept;
-void* malloc(std::size_t size) noexcept {
-  if (tCounting) ++tAllocations;
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t count, std::size_t size) noexcept {
-  if (tCounting) ++tAllocations;
-  return __libc_calloc(count, size);
-}
-void* realloc(void* pointer, std::size_t size) noexcept {
-  if (tCounting) ++tAllocations;
-  return __libc_realloc(pointer, size);
-}
-}
-#define VOLCOMP_COUNTING 1
-#endif
 
 namespace volcomp::test {
 namespace {
 
-class CountAllocations {
- public:
-  CountAllocations() {
-    tAllocations = 0;
-    tCounting = true;
-  }
-  ~CountAllocations() { tCounting = false; }
-  std::uint64_t count() const { return tAllocations; }
-};
+using CountAllocations = volcomp::testutil::AllocationScope;
 
 void cycles(modbus::ModbusControllerPort& port, int n) {
   daemon::AxisSample s;
@@ -61,9 +28,9 @@ void cycles(modbus::ModbusControllerPort& port, int n) {
 }
 
 TEST(ModbusAllocations, ReadAndWriteDoNotAllocate) {
-#ifndef VOLCOMP_COUNTING
-  GTEST_SKIP() << "malloc interposition needs glibc without sanitizers";
-#endif
+  if (!volcomp::testutil::kCountsMalloc) {
+    GTEST_SKIP() << "malloc interposition needs glibc without sanitizers";
+  }
   {
     // The counter sees an allocation (called through a volatile pointer so it is not elided).
     void* (*volatile allocate)(std::size_t) = std::malloc;
@@ -86,9 +53,9 @@ TEST(ModbusAllocations, ReadAndWriteDoNotAllocate) {
 }
 
 TEST(ModbusAllocations, FailedTransactionsDoNotAllocate) {
-#ifndef VOLCOMP_COUNTING
-  GTEST_SKIP() << "malloc interposition needs glibc without sanitizers";
-#endif
+  if (!volcomp::testutil::kCountsMalloc) {
+    GTEST_SKIP() << "malloc interposition needs glibc without sanitizers";
+  }
   auto lb = Loopback::tcp({100, 200, -50});
   ASSERT_FALSE(lb->port->connect());
   daemon::AxisSample s;

@@ -1,75 +1,30 @@
-// Evaluation and the offset solve must never allocate: the global operator new is replaced by a
-// counting one (which is why this is a separate executable), and the hot calls run with the
-// counter armed.
+// Evaluation and the offset solve must never allocate: the shared allocation counter (which
+// replaces malloc or the global operator new, hence a separate executable) counts this thread's
+// allocations while the hot calls run.
 
-// GCC pairs the replaced operator delete (free) with operator new at inlined call sites and warns
-// about a mismatch that is not one: our operator new allocates with malloc.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-#include <atomic>
-#include <cstdlib>
-#include <new>
+#include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "allocation_counter.hpp"
 #include "model_builders.hpp"
 #include "volcomp/model/machine_model.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-std::atomic<bool> g_counting{false};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  return operator new(size);
-}
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  return std::malloc(size == 0 ? 1 : size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept {
-  return operator new(size, tag);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace volcomp::model {
 namespace {
 
-class CountAllocations {
- public:
-  CountAllocations() {
-    g_allocations = 0;
-    g_counting = true;
-  }
-  ~CountAllocations() { g_counting = false; }
-  long count() const { return g_allocations.load(); }
-};
+using CountAllocations = volcomp::testutil::AllocationScope;
 
 TEST(Allocation, CounterWorks) {
-  long seen = 0;
+  std::uint64_t seen = 0;
   {
     CountAllocations counter;
     auto* p = new std::vector<double>(10);
     seen = counter.count();
     delete p;
   }
-  EXPECT_GE(seen, 2);
+  EXPECT_GE(seen, 2U);
 }
 
 TEST(Allocation, EvaluateAndSolveNeverAllocate) {
@@ -78,7 +33,7 @@ TEST(Allocation, EvaluateAndSolveNeverAllocate) {
   const MachineModel random(testing::randomModel(rng, 1e-3, 500, 200));
   Workspace ws;
   volatile double sink = 0;
-  long allocations = 0;
+  std::uint64_t allocations = 0;
   {
     CountAllocations counter;
     for (const MachineModel* model : {&full, &random}) {
@@ -101,7 +56,7 @@ TEST(Allocation, EvaluateAndSolveNeverAllocate) {
     }
     allocations = counter.count();
   }
-  EXPECT_EQ(allocations, 0);
+  EXPECT_EQ(allocations, 0U);
 }
 
 }  // namespace

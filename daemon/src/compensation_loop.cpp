@@ -133,15 +133,22 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
   return true;
 }
 
-// The controller may change the applied offsets behind this loop's back: its heartbeat watchdog
-// ramps them out while the daemon is stopped or blocked, or it applies its own limits. The limiter
-// must continue from what is applied, as after a reconnect, or the next write would jump. A
-// departure within one limiter step is rounding or lag of the read-back and keeps the limiter's
-// own state (its velocity matters for the acceleration limit).
+// The controller may change the applied offsets behind this loop's back while the loop is silent:
+// its heartbeat watchdog ramps them out when the daemon was stopped or blocked (SIGSTOP, a stuck
+// transaction, a starved CPU). After such a silence the limiter must continue from what is
+// applied, as after a reconnect, or the next write would jump. Only after a silence: while the
+// loop writes every cycle a read-back that disagrees is more likely frozen registers than a PLC
+// acting on its own, and following it would make the written offsets jump. A departure within
+// one limiter step is rounding or lag and keeps the limiter's state (its velocity matters for the
+// acceleration limit).
 void CompensationLoop::followController(time_point now) noexcept {
+  const auto silence = now - lastWriteTime_;
+  if (silence <= 2 * settings_.period) return;
   std::array<double, 3> applied{};
   if (settings_.offsetReadback) {
     if (!sample_.hasAppliedOffsets || !allFinite(sample_.appliedOffsetMm)) return;
+    // A life counter that did not move says the registers, the read-back included, are old.
+    if (sample_.hasSequence && sample_.sequence == lastSequence_) return;
     applied = sample_.appliedOffsetMm;
     const double toleranceMm =
         settings_.limiter.maxRateMmS * seconds(settings_.period) + kReadbackResolutionMm;
@@ -150,13 +157,8 @@ void CompensationLoop::followController(time_point now) noexcept {
       if (std::abs(applied[k] - limiter_.offsetMm[k]) > toleranceMm) departed = true;
     }
     if (!departed) return;
-  } else {
-    // Silent for longer than a cycle and than plcZeroAfter: the PLC has zeroed the offsets.
-    const auto silence = now - lastWriteTime_;
-    if (settings_.plcZeroAfter.count() <= 0 || silence <= settings_.period ||
-        silence < settings_.plcZeroAfter) {
-      return;
-    }
+  } else if (settings_.plcZeroAfter.count() <= 0 || silence < settings_.plcZeroAfter) {
+    return;  // not silent long enough for the PLC to have zeroed the offsets
   }
   resetLimiter(limiter_, applied);
   command_.offsetMm = limiter_.offsetMm;

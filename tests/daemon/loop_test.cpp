@@ -279,7 +279,8 @@ TEST_F(LoopTest, AppliedOffsetsChangedByThePlcAreFollowedWithoutAJump) {
   make();
   runUntilSettled();
   ASSERT_DOUBLE_EQ(port.last.offsetMm[2], 0.03);
-  port.applied = {0.0, 0.0, 0.0};  // the PLC zeroed them while we were not running
+  clock.advance(std::chrono::milliseconds(400));  // the daemon was stopped (SIGSTOP) ...
+  port.applied = {0.0, 0.0, 0.0};                 // ... and the PLC's watchdog zeroed them
   const CycleReport r = cycle();
   ASSERT_TRUE(r.wrote);
   // From 0 applied, towards the model's (0.01, -0.02, 0.03): one step of 0.01 at most.
@@ -289,14 +290,45 @@ TEST_F(LoopTest, AppliedOffsetsChangedByThePlcAreFollowedWithoutAJump) {
   EXPECT_EQ(loop->counters().resynchronisations, 1u);
 }
 
-// A read-back within one step of what was written (rounding, lag) does not re-seed the limiter.
+// A read-back within one step of what was written (rounding, lag) does not re-seed the limiter,
+// even after a silence.
 TEST_F(LoopTest, ReadBackWithinOneStepKeepsTheLimiterState) {
   make();
   runUntilSettled();
   port.holdApplied = true;
   port.applied = {0.01, -0.02, 0.03 - 0.5 * kStep};
+  clock.advance(std::chrono::milliseconds(400));
   cycle();
   EXPECT_DOUBLE_EQ(port.last.offsetMm[2], 0.03);
+  EXPECT_EQ(loop->counters().resynchronisations, 0u);
+}
+
+// While the loop writes every cycle, a read-back that disagrees is stale registers (a frozen
+// controller), not the PLC acting: following it would make the writes jump. Nothing re-seeds.
+TEST_F(LoopTest, DisagreeingReadBackWhileWritingEveryCycleIsNotFollowed) {
+  make();
+  runUntilSettled();
+  port.holdApplied = true;
+  port.applied = {0.0, 0.0, 0.0};
+  for (int i = 0; i < 5; ++i) {
+    cycle();
+    EXPECT_DOUBLE_EQ(port.last.offsetMm[2], 0.03);
+  }
+  EXPECT_EQ(loop->counters().resynchronisations, 0u);
+}
+
+// After a silence, a life counter that has not moved marks the read-back as old: not followed.
+TEST_F(LoopTest, ReadBackWithAFrozenLifeCounterIsNotFollowed) {
+  port.autoSequence = true;
+  make();
+  runUntilSettled();
+  port.autoSequence = false;  // the PLC's counter stops: its registers are not refreshed
+  port.sample.hasSequence = true;
+  port.sample.sequence = port.sequence;
+  port.holdApplied = true;
+  port.applied = {0.0, 0.0, 0.0};
+  clock.advance(std::chrono::milliseconds(40));
+  cycle();
   EXPECT_EQ(loop->counters().resynchronisations, 0u);
 }
 

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "child_process.hpp"
+#include "subprocess.hpp"
 #include "temp_dir.hpp"
 
 namespace volcomp::daemon::testing {
@@ -60,10 +60,11 @@ class VolcompdProcess : public ::testing::Test {
     config_["transport"]["port"] = unusedPort();
     configPath_ = dir_.write("volcompd.json", config_.dump(2));
   }
-  Child run(std::vector<std::string> extra) {
+  testutil::Subprocess run(std::vector<std::string> extra) {
     std::vector<std::string> args{VOLCOMPD_PATH, "--config", configPath_};
     args.insert(args.end(), extra.begin(), extra.end());
-    return Child(args);
+    // stderr onto the stdout pipe (the log and the messages in one text); not under systemd.
+    return testutil::Subprocess(args, "", {"NOTIFY_SOCKET", "JOURNAL_STREAM"});
   }
 
   TempDir dir_;
@@ -72,7 +73,7 @@ class VolcompdProcess : public ::testing::Test {
 };
 
 TEST_F(VolcompdProcess, CheckConfigAcceptsAGoodFile) {
-  Child child = run({"--check-config"});
+  testutil::Subprocess child = run({"--check-config"});
   EXPECT_EQ(child.waitExit(20s), 0) << child.output();
   EXPECT_NE(child.output().find("valid"), std::string::npos) << child.output();
 }
@@ -80,26 +81,26 @@ TEST_F(VolcompdProcess, CheckConfigAcceptsAGoodFile) {
 TEST_F(VolcompdProcess, BadFileExitsWithStatus2NamingTheKeyPath) {
   config_["limiter"]["max_rate_mm_s"] = "fast";
   dir_.write("volcompd.json", config_.dump());
-  Child child = run({"--check-config"});
+  testutil::Subprocess child = run({"--check-config"});
   EXPECT_EQ(child.waitExit(20s), 2);
   EXPECT_NE(child.output().find("limiter.max_rate_mm_s"), std::string::npos) << child.output();
 }
 
 TEST_F(VolcompdProcess, BadArgumentsExitWithStatus2) {
-  Child child = run({"--no-such-option"});
+  testutil::Subprocess child = run({"--no-such-option"});
   EXPECT_EQ(child.waitExit(20s), 2);
 }
 
 TEST_F(VolcompdProcess, ReloadRejectsABrokenModelAndTermStopsWithStatus0) {
-  Child child = run({});
-  ASSERT_TRUE(child.waitFor("link lost", 20s)) << child.output();
+  testutil::Subprocess child = run({});
+  ASSERT_TRUE(child.waitForOutput("link lost", 20s)) << child.output();
 
   const std::string brokenModel = dir_.write("broken.json", R"({"format": "volcomp-model/1",
     "topology": "XYFZ", "components": {"EXX": {"positions": [0, 1], "values": [0]}}})");
   config_["model"] = brokenModel;
   dir_.write("volcompd.json", config_.dump());
   child.signal(SIGHUP);
-  ASSERT_TRUE(child.waitFor("reload rejected", 20s)) << child.output();
+  ASSERT_TRUE(child.waitForOutput("reload rejected", 20s)) << child.output();
   EXPECT_NE(child.output().find("components.EXX"), std::string::npos) << child.output();
 
   child.signal(SIGTERM);
@@ -108,8 +109,8 @@ TEST_F(VolcompdProcess, ReloadRejectsABrokenModelAndTermStopsWithStatus0) {
 }
 
 TEST_F(VolcompdProcess, InterruptStopsWithStatus0) {
-  Child child = run({});
-  ASSERT_TRUE(child.waitFor("link lost", 20s)) << child.output();
+  testutil::Subprocess child = run({});
+  ASSERT_TRUE(child.waitForOutput("link lost", 20s)) << child.output();
   child.signal(SIGINT);
   EXPECT_EQ(child.waitExit(20s), 0) << child.output();
 }

@@ -17,7 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "child_process.hpp"
+#include "subprocess.hpp"
 #include "wait_for.hpp"
 
 namespace volcomp::test {
@@ -56,7 +56,7 @@ class ModbusE2e : public ::testing::Test {
     std::vector<std::string> argv{kSim, "--config", write("sim.json", simConfig), "--record",
                                   (dir_ / "writes.csv").string()};
     argv.insert(argv.end(), args.begin(), args.end());
-    sim_ = std::make_unique<ChildProcess>(argv, (dir_ / "sim.err").string());
+    sim_ = std::make_unique<testutil::Subprocess>(argv, (dir_ / "sim.err").string());
     const auto line = sim_->readLine(10s);
     if (!line) return {};
     std::istringstream in(*line);
@@ -68,7 +68,7 @@ class ModbusE2e : public ::testing::Test {
   }
 
   void startDaemon(const json& daemonConfig) {
-    daemon_ = std::make_unique<ChildProcess>(
+    daemon_ = std::make_unique<testutil::Subprocess>(
         std::vector<std::string>{kDaemon, "--config", write("volcompd.json", daemonConfig)},
         (dir_ / "volcompd.err").string());
   }
@@ -139,8 +139,8 @@ class ModbusE2e : public ::testing::Test {
   }
 
   std::filesystem::path dir_;
-  std::unique_ptr<ChildProcess> sim_;
-  std::unique_ptr<ChildProcess> daemon_;
+  std::unique_ptr<testutil::Subprocess> sim_;
+  std::unique_ptr<testutil::Subprocess> daemon_;
 };
 
 TEST_F(ModbusE2e, TcpCompensatesWithinTheLimitsAndStopsCleanly) {

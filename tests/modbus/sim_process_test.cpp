@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "child_process.hpp"
+#include "subprocess.hpp"
 #include "test_maps.hpp"
 #include "volcomp/daemon/ports.hpp"
 #include "volcomp/modbus/controller_port.hpp"
@@ -30,7 +30,7 @@ std::filesystem::path tempDir() {
   return dir;
 }
 
-std::uint16_t listeningPort(ChildProcess& sim) {
+std::uint16_t listeningPort(testutil::Subprocess& sim) {
   const auto line = sim.readLine(10s);
   if (!line) return 0;
   std::istringstream in(*line);
@@ -45,8 +45,8 @@ std::uint16_t listeningPort(ChildProcess& sim) {
 
 TEST(SimProcess, ServesTheExampleMachineAndReportsAtSigterm) {
   const auto record = tempDir() / "writes.csv";
-  ChildProcess sim({kSim, "--config", kExamples + "/sim-vmc.json", "--port", "0", "--record",
-                    record.string(), "--event", "0:enable:off"});
+  testutil::Subprocess sim({kSim, "--config", kExamples + "/sim-vmc.json", "--port", "0",
+                            "--record", record.string(), "--event", "0:enable:off"});
   const std::uint16_t port = listeningPort(sim);
   ASSERT_NE(port, 0);
 
@@ -117,11 +117,12 @@ TEST(SimProcess, ServesTheExampleMachineAndReportsAtSigterm) {
 
 TEST(SimProcess, BadArgumentsAndConfigurationsExitWithStatus2) {
   {
-    ChildProcess sim({kSim, "--config", "/nonexistent/sim.json"});
+    testutil::Subprocess sim({kSim, "--config", "/nonexistent/sim.json"});
     EXPECT_EQ(sim.waitExit(10s), 2);
   }
   {
-    ChildProcess sim({kSim, "--config", kExamples + "/sim-vmc.json", "--event", "1:explode"});
+    testutil::Subprocess sim(
+        {kSim, "--config", kExamples + "/sim-vmc.json", "--event", "1:explode"});
     EXPECT_EQ(sim.waitExit(10s), 2);
   }
   {
@@ -132,7 +133,7 @@ TEST(SimProcess, BadArgumentsAndConfigurationsExitWithStatus2) {
     cfg["path"] = {
         {"type", "circle"}, {"center", {840, 250, -100}}, {"radius_mm", 50}, {"feed_mm_min", 1000}};
     std::ofstream(file) << cfg.dump();
-    ChildProcess sim({kSim, "--config", file.string()});
+    testutil::Subprocess sim({kSim, "--config", file.string()});
     EXPECT_EQ(sim.waitExit(10s), 2);
   }
 }

@@ -1,7 +1,8 @@
 #pragma once
-// A child process for end-to-end tests: started with posix_spawn with stdin and stdout on pipes
-// and stderr to a file, extra environment variables, lines read from stdout with a deadline
-// (poll, never a sleep), signals sent by pid, exit awaited with a deadline. The destructor kills
+// A child process for tests: started with posix_spawn with stdin and stdout on pipes and stderr
+// to a file (or onto the stdout pipe), environment variables added or removed, lines or text read
+// from stdout with a deadline (poll, never a sleep), signals sent by pid, exit awaited with a
+// deadline. The destructor kills
 // and reaps a child that is still running, so a failing test leaves no process behind.
 
 #include <fcntl.h>
@@ -46,9 +47,11 @@ inline std::string readTextFile(const std::string& file) {
 
 class Subprocess {
  public:
-  /// Starts argv[0] (a path) with the arguments and the parent's environment plus `extraEnv`
-  /// ("NAME=value" entries, which override the parent's). stderr goes to `stderrFile`.
-  explicit Subprocess(const std::vector<std::string>& argv, const std::string& stderrFile,
+  /// Starts argv[0] (a path) with the arguments and the parent's environment changed by
+  /// `extraEnv`: "NAME=value" entries override the parent's, a bare "NAME" removes it. stderr goes
+  /// to `stderrFile`, or onto the stdout pipe when `stderrFile` is empty.
+  explicit Subprocess(const std::vector<std::string>& argv,
+                      const std::string& stderrFile = "/dev/null",
                       const std::vector<std::string>& extraEnv = {})
       : stderrFile_(stderrFile) {
     int in[2], out[2];
@@ -62,8 +65,12 @@ class Subprocess {
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_adddup2(&actions, in[0], STDIN_FILENO);
     posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderrFile.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (stderrFile.empty()) {
+      posix_spawn_file_actions_adddup2(&actions, out[1], STDERR_FILENO);
+    } else {
+      posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderrFile.c_str(),
+                                       O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    }
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
@@ -72,10 +79,14 @@ class Subprocess {
       const std::string entry(*e);
       const std::string name = entry.substr(0, entry.find('='));
       bool overridden = false;
-      for (const auto& x : extraEnv) overridden = overridden || x.rfind(name + "=", 0) == 0;
+      for (const auto& x : extraEnv) {
+        overridden = overridden || x == name || x.rfind(name + "=", 0) == 0;
+      }
       if (!overridden) env.push_back(entry);
     }
-    env.insert(env.end(), extraEnv.begin(), extraEnv.end());
+    for (const auto& x : extraEnv) {
+      if (x.find('=') != std::string::npos) env.push_back(x);
+    }
     std::vector<char*> envp;
     for (auto& e : env) envp.push_back(e.data());
     envp.push_back(nullptr);
@@ -121,16 +132,33 @@ class Subprocess {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
           deadline - std::chrono::steady_clock::now());
       if (left.count() <= 0) return std::nullopt;
-      pollfd p{stdout_, POLLIN, 0};
-      if (::poll(&p, 1, static_cast<int>(left.count())) <= 0) continue;
-      char chunk[4096];
-      const ssize_t n = ::read(stdout_, chunk, sizeof chunk);
-      if (n <= 0) {
-        eof_ = true;
-        continue;
-      }
-      buffer_.append(chunk, static_cast<std::size_t>(n));
+      readChunk(left);
     }
+  }
+
+  /// Reads stdout until `text` appears after the end of the previous match (true), or the
+  /// timeout expires or stdout ends (false). Lines it reads stay available to readLine.
+  bool waitForOutput(const std::string& text, std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      const auto found = output_.find(text, searched_);
+      if (found != std::string::npos) {
+        searched_ = found + text.size();
+        return true;
+      }
+      if (eof_) return false;
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) return false;
+      readChunk(left);
+    }
+  }
+
+  /// Everything the child has written on stdout so far (what is already in the pipe included).
+  const std::string& output() {
+    while (!eof_ && readChunk(std::chrono::milliseconds(0))) {
+    }
+    return output_;
   }
 
   /// Reads lines until one satisfies `match` (returned) or the timeout expires (nullopt).
@@ -171,9 +199,15 @@ class Subprocess {
   }
 
   /// The exit status once the child has exited within the timeout: its exit code, or 128 + the
-  /// signal that killed it; -1 if it is still running at the deadline.
+  /// signal that killed it; -1 if it is still running at the deadline. stdout is read meanwhile
+  /// (kept for readLine and output()), so a child with a lot to say cannot block on a full pipe.
   int waitExit(std::chrono::milliseconds timeout) {
-    if (!waitUntil([this] { return !running(); }, timeout)) return -1;
+    const auto drainedAndExited = [this] {
+      while (!eof_ && readChunk(std::chrono::milliseconds(0))) {
+      }
+      return !running();
+    };
+    if (!waitUntil(drainedAndExited, timeout)) return -1;
     return status_;
   }
 
@@ -186,6 +220,22 @@ class Subprocess {
   }
 
  private:
+  // Waits up to `timeout` for stdout and appends one read to the line buffer and the transcript;
+  // false when nothing was read (timeout or end of stdout, which sets eof_).
+  bool readChunk(std::chrono::milliseconds timeout) {
+    pollfd p{stdout_, POLLIN, 0};
+    if (::poll(&p, 1, static_cast<int>(timeout.count())) <= 0) return false;
+    char chunk[4096];
+    const ssize_t n = ::read(stdout_, chunk, sizeof chunk);
+    if (n <= 0) {
+      eof_ = true;
+      return false;
+    }
+    buffer_.append(chunk, static_cast<std::size_t>(n));
+    output_.append(chunk, static_cast<std::size_t>(n));
+    return true;
+  }
+
   std::string stderrFile_;
   pid_t pid_ = -1;
   int stdin_ = -1;
@@ -194,6 +244,8 @@ class Subprocess {
   bool eof_ = false;
   int status_ = -1;
   std::string buffer_;
+  std::string output_;
+  std::size_t searched_ = 0;
 };
 
 }  // namespace volcomp::testutil

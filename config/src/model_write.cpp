@@ -20,18 +20,6 @@ Json vector3(const Eigen::Vector3d& v, double factor = 1.0) {
   return Json::array({v.x() * factor, v.y() * factor, v.z() * factor});
 }
 
-const char* interpolationName(model::Interpolation interpolation) {
-  switch (interpolation) {
-    case model::Interpolation::Quadratic:
-      return "quadratic";
-    case model::Interpolation::Cubic:
-      return "cubic";
-    case model::Interpolation::Linear:
-      break;
-  }
-  return "linear";
-}
-
 // nullopt for the zero constant, which the format expresses by leaving the component out.
 std::optional<Json> writeFunction(const model::ErrorFunctionSpec& spec, double factor) {
   if (const double* constant = std::get_if<double>(&spec)) {
@@ -67,6 +55,18 @@ Json writeGridValues(const model::GridSpec& grid, std::size_t level, std::size_t
 }
 
 }  // namespace
+
+const char* interpolationName(model::Interpolation interpolation) noexcept {
+  switch (interpolation) {
+    case model::Interpolation::Quadratic:
+      return "quadratic";
+    case model::Interpolation::Cubic:
+      return "cubic";
+    case model::Interpolation::Linear:
+      break;
+  }
+  return "linear";
+}
 
 nlohmann::json writeModel(const model::MachineModelSpec& spec, const ErrorUnits& units) {
   // Factors from the names, so that a hand-filled ErrorUnits cannot disagree with itself.

@@ -18,7 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "subprocess.hpp"
-#include "wait_for.hpp"
+#include "wait_until.hpp"
 
 namespace volcomp::test {
 namespace {
@@ -170,7 +170,7 @@ TEST_F(ModbusE2e, StopRampsTheOffsetsOutAndWritesZeroAndInactive) {
   d["limiter"]["max_rate_mm_s"] = 0.05;
   startDaemon(d);
   // Wait until an offset is well away from zero (> 5 um), so the ramp-out is visible.
-  ASSERT_TRUE(waitFor(
+  ASSERT_TRUE(testutil::waitUntil(
       [&] {
         const json s = simStatus();
         if (!s.is_object()) return false;

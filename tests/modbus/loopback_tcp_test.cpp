@@ -6,7 +6,7 @@
 #include "loopback_fixture.hpp"
 #include "volcomp/daemon/ports.hpp"
 #include "volcomp/modbus/error.hpp"
-#include "wait_for.hpp"
+#include "wait_until.hpp"
 
 namespace volcomp::test {
 namespace {
@@ -154,7 +154,7 @@ TEST(ModbusTcpLoopback, DroppedLinkIsALinkErrorAndReconnectWorks) {
   // Until the server has closed the socket a request may just go unanswered (a timeout); then
   // the next one sees the closed connection.
   std::error_code ec;
-  ASSERT_TRUE(waitFor([&] {
+  ASSERT_TRUE(testutil::waitUntil([&] {
     ec = lb->port->read(s);
     return isLinkError(ec);
   })) << ec.message();
@@ -164,7 +164,7 @@ TEST(ModbusTcpLoopback, DroppedLinkIsALinkErrorAndReconnectWorks) {
   EXPECT_EQ(ec, std::errc::connection_refused);
   EXPECT_TRUE(isLinkError(ec));
   lb->machine.resume();
-  ASSERT_TRUE(waitFor([&] { return !lb->port->connect(); }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !lb->port->connect(); }));
   ASSERT_FALSE(lb->port->read(s));
   EXPECT_NEAR(s.positionMm[0], kAt[0], 1e-9);
   OffsetCommand c;

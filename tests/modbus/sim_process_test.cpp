@@ -13,7 +13,7 @@
 #include "volcomp/daemon/ports.hpp"
 #include "volcomp/modbus/controller_port.hpp"
 #include "volcomp/modbus/error.hpp"
-#include "wait_for.hpp"
+#include "wait_until.hpp"
 
 namespace volcomp::test {
 namespace {
@@ -55,9 +55,9 @@ TEST(SimProcess, ServesTheExampleMachineAndReportsAtSigterm) {
   ASSERT_FALSE(driver.connect());
   daemon::AxisSample s;
   // The scheduled event at 0 s switches enable off; stdin switches it on again.
-  ASSERT_TRUE(waitFor([&] { return !driver.read(s) && !s.enable; }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !driver.read(s) && !s.enable; }));
   sim.writeLine("enable on");
-  ASSERT_TRUE(waitFor([&] { return !driver.read(s) && s.enable; }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !driver.read(s) && s.enable; }));
   // The example raster runs inside X 50..800, Y 50..450 at Z = -200.
   EXPECT_GE(s.positionMm[0], 50.0 - 1e-9);
   EXPECT_LE(s.positionMm[0], 800.0 + 1e-9);
@@ -76,15 +76,16 @@ TEST(SimProcess, ServesTheExampleMachineAndReportsAtSigterm) {
 
   sim.writeLine("exception 2");
   std::error_code ec;
-  ASSERT_TRUE(waitFor([&] { return (ec = driver.read(s)) == modbus::Errc::illegal_data_address; }))
-      << ec.message();
+  ASSERT_TRUE(testutil::waitUntil([&] {
+    return (ec = driver.read(s)) == modbus::Errc::illegal_data_address;
+  })) << ec.message();
   sim.writeLine("resume");
-  ASSERT_TRUE(waitFor([&] { return !driver.read(s); }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !driver.read(s); }));
 
   sim.writeLine("drop-link");
-  ASSERT_TRUE(waitFor([&] { return daemon::isLinkError(driver.read(s)); }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return daemon::isLinkError(driver.read(s)); }));
   sim.writeLine("resume");
-  ASSERT_TRUE(waitFor([&] { return !driver.connect(); }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !driver.connect(); }));
   ASSERT_FALSE(driver.read(s));
   EXPECT_NEAR(s.appliedOffsetMm[0], 0.005, 1e-9) << "the controller kept the applied offsets";
   ASSERT_FALSE(driver.write(c));

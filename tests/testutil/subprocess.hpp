@@ -23,21 +23,11 @@
 #include <thread>
 #include <vector>
 
+#include "wait_until.hpp"
+
 extern char** environ;
 
 namespace volcomp::testutil {
-
-/// Polls `condition` every 2 ms until it holds or `timeout` expires; returns whether it held.
-/// For conditions that have no file descriptor to wait on (a file's content, a process state).
-template <typename Predicate>
-bool waitUntil(Predicate&& condition, std::chrono::milliseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (!condition()) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return true;
-}
 
 /// The whole content of a text file ("" when it does not exist).
 inline std::string readTextFile(const std::string& file) {

@@ -42,18 +42,6 @@ double polynomialAt(const std::vector<double>& c, double q) {
   return value;
 }
 
-const char* interpolationName(model::Interpolation interpolation) {
-  switch (interpolation) {
-    case model::Interpolation::Quadratic:
-      return "quadratic";
-    case model::Interpolation::Cubic:
-      return "cubic";
-    case model::Interpolation::Linear:
-      break;
-  }
-  return "linear";
-}
-
 // One line per component: kind, range, peak |value| in the file's units, direction dependence.
 void describeMotion(std::ostream& out, const model::MachineModelSpec& spec, int index,
                     const config::ErrorUnits& units) {
@@ -84,7 +72,7 @@ void describeMotion(std::ostream& out, const model::MachineModelSpec& spec, int 
     const auto& t = std::get<model::TableSpec>(f);
     const double lo = t.positionsMm.front();
     const double hi = t.positionsMm.back();
-    line += std::string("table, ") + interpolationName(t.interpolation) + ", " +
+    line += std::string("table, ") + config::interpolationName(t.interpolation) + ", " +
             std::to_string(t.positionsMm.size()) + " nodes over " + range(lo, hi) +
             " mm, peak |value| " +
             formatDouble(std::max(peakOf(t.values), peakOf(t.valuesNegative)) / factor) + " " +

@@ -53,6 +53,9 @@ nlohmann::json writeModel(const model::MachineModelSpec& spec, const ErrorUnits&
 /// Writes a D-H chain spec (angles in degrees as the format says).
 nlohmann::json writeModel(const model::DhChainSpec& spec);
 
+/// The file format's name of an interpolation kind: "linear", "quadratic" or "cubic".
+const char* interpolationName(model::Interpolation interpolation) noexcept;
+
 /// Factor from a length unit name (mm|um|nm) to mm; angle unit name (rad|mrad|urad|arcsec|deg) to
 /// rad. Throw ConfigError with the given file/path on an unknown name.
 double lengthUnitToMm(const std::string& unit, const std::string& file, const std::string& path);

@@ -41,6 +41,30 @@ void BM_EvaluateFirstOrder(benchmark::State& state) {
   BM_Evaluate(state, EvalMode::FirstOrder);
 }
 
+// The whole sweep through evaluateBatch: four points per SIMD register.
+void BM_EvaluateBatch(benchmark::State& state, EvalMode mode) {
+  const MachineModel model = fullModel();
+  const std::vector<Eigen::Vector3d> points = sweep();
+  std::vector<PointError> out(points.size());
+  Workspace ws;
+  for (auto _ : state) {
+    evaluateBatch(model, ws, points, out, mode);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * kPoints);
+  state.counters["ns_per_point"] =
+      benchmark::Counter(static_cast<double>(state.iterations() * kPoints),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void BM_EvaluateBatchExact(benchmark::State& state) {
+  BM_EvaluateBatch(state, EvalMode::Exact);
+}
+void BM_EvaluateBatchFirstOrder(benchmark::State& state) {
+  BM_EvaluateBatch(state, EvalMode::FirstOrder);
+}
+
 void BM_SolveOffset(benchmark::State& state) {
   const MachineModel model = fullModel();
   const std::vector<Eigen::Vector3d> points = sweep();
@@ -78,6 +102,8 @@ void BM_EvaluateMotionOnly(benchmark::State& state) {
 
 BENCHMARK(BM_EvaluateExact);
 BENCHMARK(BM_EvaluateFirstOrder);
+BENCHMARK(BM_EvaluateBatchExact);
+BENCHMARK(BM_EvaluateBatchFirstOrder);
 BENCHMARK(BM_SolveOffset);
 BENCHMARK(BM_EvaluateMotionOnly);
 

@@ -4,7 +4,8 @@
 //   valgrind --tool=callgrind ./model_instruction_count exact 1   (total I1)
 //   valgrind --tool=callgrind ./model_instruction_count exact 3   (total I3)
 //   (I3 - I1) / (2 * 4096)
-// Operations: exact, first (EvalMode::FirstOrder), offset (solveOffset), motion (evaluateMotion).
+// Operations: exact, first (EvalMode::FirstOrder), offset (solveOffset), motion (evaluateMotion),
+// batch and batchfirst (evaluateBatch over the sweep, Exact and FirstOrder).
 
 #include <cstdio>
 #include <cstdlib>
@@ -19,14 +20,17 @@ int main(int argc, char** argv) {
   const std::string operation = argc > 1 ? argv[1] : "";
   const int sweeps = argc > 2 ? std::atoi(argv[2]) : 0;
   if ((operation != "exact" && operation != "first" && operation != "offset" &&
-       operation != "motion") ||
+       operation != "motion" && operation != "batch" && operation != "batchfirst") ||
       sweeps < 1) {
-    std::fprintf(stderr, "usage: model_instruction_count exact|first|offset|motion SWEEPS\n");
+    std::fprintf(stderr,
+                 "usage: model_instruction_count exact|first|offset|motion|batch|batchfirst "
+                 "SWEEPS\n");
     return 2;
   }
   const MachineModel model = bench::fullModel();
   const std::vector<Eigen::Vector3d> points = bench::sweep();
   Workspace ws;
+  std::vector<PointError> out(points.size());
   // Summed and printed so that no evaluation can be optimised away.
   double sum = 0.0;
   for (int sweep = 0; sweep < sweeps; ++sweep) {
@@ -36,6 +40,10 @@ int main(int argc, char** argv) {
       for (const auto& q : points) {
         sum += evaluate(model, ws, q, {}, EvalMode::FirstOrder).errorMm.x();
       }
+    } else if (operation == "batch" || operation == "batchfirst") {
+      evaluateBatch(model, ws, points, out,
+                    operation == "batch" ? EvalMode::Exact : EvalMode::FirstOrder);
+      for (const PointError& e : out) sum += e.errorMm.x();
     } else if (operation == "offset") {
       for (const auto& q : points) sum += solveOffset(model, ws, q).offsetMm.x();
     } else {

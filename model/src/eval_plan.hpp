@@ -23,6 +23,9 @@ struct Kernels {
                          const Eigen::Vector3d&, const Directions&, EvalMode) noexcept;
   OffsetSolution (*solve)(const MachineModel&, Workspace&, const Eigen::Vector3d&,
                           const Directions&, const OffsetOptions&) noexcept;
+  /// evaluateBatch: points, directions (the first `directionCount` given), results, count.
+  void (*many)(const MachineModel&, Workspace&, const Eigen::Vector3d*, const Directions*,
+               std::size_t, PointError*, std::size_t, EvalMode) noexcept;
 };
 
 struct EvalPlan {

@@ -1,5 +1,12 @@
 #include "volcomp/model/machine_model.hpp"
 
+// The four-lane vectors of evaluateBatch are passed between functions that are inlined or local
+// to this file, so no calling convention crosses a boundary: GCC's note that AVX vectors are
+// passed differently with and without AVX (-Wpsabi) does not apply to anything here.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -261,6 +268,14 @@ PointError composeError(const MachineModel& model, Workspace& ws, const Eigen::V
                         const MotionValues& values, const Eigen::Vector3d& toolMm,
                         EvalMode mode) noexcept {
   return detail::PlanAccess::plan(model).kernels->compose(model, ws, qMm, values, toolMm, mode);
+}
+
+void evaluateBatch(const MachineModel& model, Workspace& ws, std::span<const Eigen::Vector3d> qMm,
+                   std::span<PointError> out, EvalMode mode,
+                   std::span<const Directions> directions) noexcept {
+  detail::PlanAccess::plan(model).kernels->many(model, ws, qMm.data(), directions.data(),
+                                                directions.size(), out.data(),
+                                                std::min(qMm.size(), out.size()), mode);
 }
 
 PointError evaluate(const MachineModel& model, Workspace& ws, const Eigen::Vector3d& qMm,

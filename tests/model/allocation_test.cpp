@@ -34,6 +34,15 @@ TEST(Allocation, EvaluateAndSolveNeverAllocate) {
   Workspace ws;
   volatile double sink = 0;
   std::uint64_t allocations = 0;
+  // evaluateBatch's input and output, allocated before counting; 11 points: two full blocks of
+  // four and a padded one of three.
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Directions> directions;
+  for (int i = 0; i < 11; ++i) {
+    points.emplace_back(40.0 * i, 300 - 20.0 * i, -15.0 * i);
+    directions.push_back({Direction::Positive, Direction::Negative, Direction::Unknown});
+  }
+  std::vector<PointError> out(points.size());
   {
     CountAllocations counter;
     for (const MachineModel* model : {&full, &random}) {
@@ -52,6 +61,11 @@ TEST(Allocation, EvaluateAndSolveNeverAllocate) {
         sink = sink + composeError(*model, ws, q, values, model->toolMm()).errorMm.z();
         sink = sink + model->motion(3).value(q.x(), Direction::Negative);
         for (const Grid& grid : model->grids()) sink = sink + grid.valueMm(q.data());
+      }
+      for (const EvalMode mode : {EvalMode::Exact, EvalMode::FirstOrder}) {
+        evaluateBatch(*model, ws, points, out, mode);
+        evaluateBatch(*model, ws, points, out, mode, directions);
+        sink = sink + out.back().errorMm.x();
       }
     }
     allocations = counter.count();

@@ -112,8 +112,16 @@ class CheckingSax : public nlohmann::detail::json_sax_dom_parser<Json> {
     frame.object = object;
     if (!frames_.empty()) {
       Frame& parent = frames_.back();
-      frame.segment = parent.object ? (frames_.size() == 1 ? parent.key : "." + parent.key)
-                                    : "[" + std::to_string(parent.index) + "]";
+      // Appended piece by piece: GCC 12 at -O3 reports a false -Wrestrict overlap for
+      // "." + key (GCC bug 105329), which breaks Release builds with warnings as errors.
+      if (parent.object) {
+        if (frames_.size() != 1) frame.segment += '.';
+        frame.segment += parent.key;
+      } else {
+        frame.segment += '[';
+        frame.segment += std::to_string(parent.index);
+        frame.segment += ']';
+      }
       advance();
     }
     frames_.push_back(std::move(frame));

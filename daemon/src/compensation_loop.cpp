@@ -7,10 +7,6 @@
 namespace volcomp::daemon {
 namespace {
 
-// Rounding of a read-back register: one count of a 0.1 um register. A coarser register only makes
-// the limiter re-seed more often, which is safe.
-constexpr double kReadbackResolutionMm = 1e-4;
-
 bool allFinite(const std::array<double, 3>& v) noexcept {
   return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
 }

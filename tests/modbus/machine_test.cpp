@@ -85,7 +85,8 @@ TEST(SimMachine, ChecksEveryWriteAgainstTheLimits) {
   m.onWrite(0.010, offsets(0.011, 0, 0));
   // Another 0.012 mm in 10 ms: 0.012 > 0.0112 -> rate violation on X.
   m.onWrite(0.020, offsets(0.023, 0, 0));
-  // Beyond max_offset (+ one count): 0.0503 > 0.0501 -> offset violation on Y (rate ok over 1 s).
+  // Beyond max_offset (+ one count): 0.0503 > 0.0501 -> offset violation on Y (counted as that,
+  // the rate is checked only within max_offset).
   m.onWrite(1.020, offsets(0.023, 0.0503, 0));
   const nlohmann::json r = m.report(1.1);
   EXPECT_EQ(r["writes"], 4);
@@ -117,6 +118,50 @@ TEST(SimMachine, OneLimiterStepPerWriteWhateverTheJitter) {
   // More than one step (0.0101 mm > 0.010 mm) is a violation however it is timed.
   m.onWrite(0.030, offsets(0.0401, 0, 0));
   EXPECT_EQ(m.report(0.1)["rate_violations"], 1);
+}
+
+// The writer's limiter steps per cycle, so a pause (a stalled daemon, a lost link) allows no
+// larger step than one cycle does: resuming with a jump is a violation however long the pause.
+TEST(SimMachine, APauseAllowsNoLargerStepThanOneCycle) {
+  MachineOptions opt;
+  opt.limits.maxRateMmS = 1.0;
+  opt.limits.rateToleranceS = 0.0;
+  opt.limits.cycleS = 0.010;
+  Machine m = standing({0, 0, 0}, opt);
+  m.onSessionStart(0.0);
+  m.onWrite(0.010, offsets(0.010, 0, 0));
+  // 1 s later: one step (0.010 mm) is fine, two steps (0.020 mm more) are not.
+  m.onWrite(1.010, offsets(0.020, 0, 0));
+  EXPECT_EQ(m.report(1.1)["rate_violations"], 0);
+  m.onWrite(2.010, offsets(0.0401, 0, 0));
+  EXPECT_EQ(m.report(2.1)["rate_violations"], 1);
+}
+
+// After the controller's heartbeat watchdog moved the offsets, the daemon follows the read-back
+// only once it departs by more than one step plus the read-back resolution: up to two steps plus
+// that resolution from the applied offset are allowed for the next write, and no more.
+TEST(SimMachine, AfterTheWatchdogRampTwoStepsPlusTheReadbackResolutionAreAllowed) {
+  MachineOptions opt;
+  opt.heartbeatTimeoutS = 0.1;
+  opt.watchdogRampMmS = 1.0;
+  opt.limits.maxRateMmS = 1.0;
+  opt.limits.rateToleranceS = 0.0;
+  opt.limits.cycleS = 0.010;
+  opt.initialOffsetMm = {0.03, 0, 0};
+  Machine m = standing({0, 0, 0}, opt);
+  m.sample(0.0);
+  m.onWrite(0.0, offsets(0.03, 0, 0, 1));
+  m.onWrite(0.01, offsets(0.03, 0, 0, 2));
+  // The heartbeat stops changing: from 0.11 s the ramp removes 1 um per ms.
+  for (int i = 1; i <= 115; ++i) m.sample(0.01 + i * 0.001);
+  const double applied = m.appliedOffsetMm()[0];
+  ASSERT_LT(applied, 0.03 - 1e-3);
+  // Two steps (0.020 mm) plus 1e-4 mm above the applied offset: allowed.
+  m.onWrite(0.125, offsets(applied + 0.020 + 0.9e-4, 0, 0, 3));
+  EXPECT_EQ(m.report(0.13)["rate_violations"], 0);
+  // The next write is back to one step: 0.0101 mm more is a violation.
+  m.onWrite(0.135, offsets(applied + 0.020 + 0.9e-4 + 0.0101, 0, 0, 4));
+  EXPECT_EQ(m.report(0.14)["rate_violations"], 1);
 }
 
 TEST(SimMachine, FirstWriteAfterReconnectMustContinueFromTheAppliedOffset) {

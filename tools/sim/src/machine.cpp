@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "volcomp/daemon/compensation_loop.hpp"
+
 namespace volcomp::sim {
 namespace {
 
@@ -69,7 +71,11 @@ void Machine::advanceLocked(double tS) {
     }
     // The controller removes the offsets itself, at its own rate (like Siemens CORR_VELO).
     const double step = options_.watchdogRampMmS * dt;
-    for (auto& o : applied_) o = o > 0.0 ? std::max(0.0, o - step) : std::min(0.0, o + step);
+    for (auto& o : applied_) {
+      const double before = o;
+      o = o > 0.0 ? std::max(0.0, o - step) : std::min(0.0, o + step);
+      if (o != before) controllerChanged_ = true;
+    }
   }
   lastT_ = tS;
 }
@@ -104,8 +110,6 @@ void Machine::onSessionStart(double tS) {
   std::lock_guard lock(mutex_);
   advanceLocked(tS);
   ++sessions_;
-  sessionStartT_ = tS;
-  sessionWritten_ = false;
 }
 
 void Machine::onWrite(double tS, const daemon::OffsetCommand& command, bool partial) {
@@ -119,12 +123,16 @@ void Machine::onWrite(double tS, const daemon::OffsetCommand& command, bool part
   rec.partial = partial;
   if (partial) ++partialWrites_;
   // The reference of the rate check is what the controller applies right now (after any
-  // watchdog ramp); dt runs from the previous write of this session, or from the session start.
-  // A write may always make one limiter step (max_rate * cycle): the daemon's limiter works per
-  // cycle, and scheduling jitter can bring two writes closer than a period.
-  const double sinceS = sessionWritten_ ? tS - lastWriteT_ : tS - sessionStartT_;
-  const double dt = std::max(options_.limits.cycleS, sinceS);
+  // watchdog ramp). A write may make one limiter step from it, max_rate * (cycle + tolerance),
+  // however long ago the previous write was: the daemon's limiter steps per cycle, so a gap (a
+  // stalled daemon, a lost link, a new session) allows no more than one cycle does. When the
+  // controller changed the offsets itself since the last write, the daemon follows that only once
+  // they depart from its own by more than a step plus the read-back resolution (docs/daemon.md),
+  // so that much more is allowed then.
   const Limits& lim = options_.limits;
+  const double stepMm = lim.maxRateMmS * (lim.cycleS + lim.rateToleranceS);
+  const double allowedMm =
+      controllerChanged_ ? 2.0 * stepMm + daemon::kReadbackResolutionMm : stepMm;
   for (std::size_t k = 0; k < 3; ++k) {
     const double o = command.offsetMm[k];
     const double q = lim.quantumMm[k];
@@ -135,10 +143,11 @@ void Machine::onWrite(double tS, const daemon::OffsetCommand& command, bool part
       what =
           "|offset| " + std::to_string(o) + " mm > max_offset " + std::to_string(lim.maxOffsetMm);
       ++offsetViolations_;
-    } else if (std::abs(o - applied_[k]) >
-               lim.maxRateMmS * (dt + lim.rateToleranceS) + 2.0 * q + 1e-9) {
-      what = "step " + std::to_string(o - applied_[k]) + " mm in " + std::to_string(dt) +
-             " s > max_rate " + std::to_string(lim.maxRateMmS) + " mm/s";
+    } else if (std::abs(o - applied_[k]) > allowedMm + 2.0 * q + 1e-9) {
+      what = "step " + std::to_string(o - applied_[k]) + " mm from the applied " +
+             std::to_string(applied_[k]) + " mm > " + std::to_string(allowedMm) + " mm (max_rate " +
+             std::to_string(lim.maxRateMmS) + " mm/s per cycle of " + std::to_string(lim.cycleS) +
+             " s)";
       ++rateViolations_;
     }
     if (!what.empty()) {
@@ -168,8 +177,7 @@ void Machine::onWrite(double tS, const daemon::OffsetCommand& command, bool part
     lastHeartbeatChangeT_ = tS;
     watchdogTripped_ = false;
   }
-  sessionWritten_ = true;
-  lastWriteT_ = tS;
+  controllerChanged_ = false;
   ++writeCount_;
   if (options_.keepWrites) writes_.push_back(rec);
 }

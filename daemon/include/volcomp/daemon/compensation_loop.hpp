@@ -37,6 +37,11 @@
 
 namespace volcomp::daemon {
 
+/// Rounding of a read-back register: one count of a 0.1 um register (mm). After a silence the
+/// loop follows a read-back that departs from its own offsets by more than one limiter step plus
+/// this; a coarser register only makes it re-seed more often, which is safe.
+inline constexpr double kReadbackResolutionMm = 1e-4;
+
 enum class LoopState : std::uint8_t {
   Starting,
   Active,

@@ -44,9 +44,10 @@ struct Limits {
   double rateToleranceS = 0.005;
   /// One register count of each offset output (mm): quantisation allowed in both checks.
   Vec3 quantumMm{};
-  /// The writer's cycle period: any write may step from the applied offset by one limiter step,
-  /// max_rate * cycle (the first write of a session included), or by max_rate * the time since
-  /// the previous write when that is longer.
+  /// The writer's cycle period: any write (the first of a session included, and the first after
+  /// a gap) may step from the applied offset by one limiter step, max_rate * (cycle + tolerance);
+  /// by two steps plus daemon::kReadbackResolutionMm when the controller changed the offsets itself
+  /// (watchdog ramp) since the previous write.
   double cycleS = 0.01;
 };
 
@@ -154,9 +155,7 @@ class Machine {
          holdUntil_ = 0.0;
   int exceptionCode_ = 0;
 
-  double sessionStartT_ = 0.0;
-  bool sessionWritten_ = false;
-  double lastWriteT_ = 0.0;
+  bool controllerChanged_ = false;  // the watchdog ramp moved applied_ since the last write
   bool anyWrite_ = false;
   double firstWriteT_ = 0.0;
   std::uint16_t lastHeartbeat_ = 0;

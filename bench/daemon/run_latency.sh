@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
 # Latency of volcompd's cycle against a loopback Modbus TCP server (volcomp-sim), beside the bare
 # libmodbus FC03+FC16 transaction against the same server in the same run (both processes pinned
-# to one CPU), then volcompd itself at 1 kHz for SUSTAIN_S seconds counting overruns.
+# to one CPU), then the wake-up lateness of an empty 1 kHz cycle on volcompd's CPU per wait mode
+# (volcomp-bench-pacing: the platform's share of any overrun), then volcompd itself at 1 kHz for
+# SUSTAIN_S seconds counting overruns.
 #
 # Usage: bench/daemon/run_latency.sh            (after ./scripts/build.sh)
 # Environment: BUILD_DIR (default ./build), CPU (the CPU of the latency run, default the last),
 #   SERVER_CPU (the simulator's CPU in the sustained run, default 0), SAMPLES (default 20000),
-#   SUSTAIN_S (default 60), RT=1 to run both under SCHED_FIFO 50 (chrt; needs the privilege).
+#   SUSTAIN_S (default 60), RT=1 to run both under SCHED_FIFO 50 (chrt; needs the privilege),
+#   PACING_S (seconds per wait mode of the empty-cycle baseline, default 10; 0 skips it),
+#   MARGIN_US (the baseline's sleep-spin margin, default 900).
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -15,14 +19,17 @@ examples="$root/config/examples"
 sim="$build/tools/sim/volcomp-sim"
 daemon="$build/daemon/volcompd"
 harness="$build/bench/daemon/volcomp-bench-cycle"
+pacing="$build/bench/daemon/volcomp-bench-pacing"
 cpu="${CPU:-$(($(nproc) - 1))}"
 server_cpu="${SERVER_CPU:-0}"
 samples="${SAMPLES:-20000}"
 sustain="${SUSTAIN_S:-60}"
+pacing_s="${PACING_S:-10}"
+margin_us="${MARGIN_US:-900}"
 prio=()
 if [ "${RT:-0}" = "1" ]; then prio=(chrt -f 50); fi
 
-for exe in "$sim" "$daemon" "$harness"; do
+for exe in "$sim" "$daemon" "$harness" "$pacing"; do
   [ -x "$exe" ] || { echo "run_latency: $exe not built (run ./scripts/build.sh)" >&2; exit 2; }
 done
 
@@ -65,6 +72,7 @@ EOF
 
 echo "machine: $(lscpu | sed -n 's/^Model name:[[:space:]]*//p'), $(nproc) CPUs, kernel $(uname -r)"
 echo "pinning: latency run on CPU $cpu (server and client); sustained run: volcompd on CPU $cpu, server on CPU $server_cpu${RT:+, RT=$RT}"
+echo "load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 
 # ---- 1. cycle latency vs bare transaction -------------------------------------------------
 edit_json "$examples/sim-vmc.json" "$work/sim.json" "
@@ -94,7 +102,15 @@ if r['cycles_not_active'] or r['bare_errors']:
     print(f"note: {r['cycles_not_active']} cycles not active, {r['bare_errors']} bare errors")
 EOF
 
-# ---- 2. volcompd at 1 kHz for $sustain s ---------------------------------------------------
+# ---- 2. empty-cycle baseline on volcompd's CPU ---------------------------------------------
+if [ "$pacing_s" != "0" ]; then
+  echo
+  echo "empty 1 kHz cycle, $pacing_s s per wait mode (wake-up lateness = the platform's share):"
+  taskset -c "$cpu" "${prio[@]}" "$pacing" --seconds "$pacing_s" --period-us 1000 \
+    --margin-us "$margin_us" | sed 's/^/  /'
+fi
+
+# ---- 3. volcompd at 1 kHz for $sustain s ---------------------------------------------------
 edit_json "$examples/sim-vmc.json" "$work/sim1k.json" "
 d['model'] = '$examples/vmc-xyfz-21.json'
 d['limits']['cycle_ms'] = 1
@@ -117,7 +133,7 @@ wait "$daemon_pid" || daemon_rc=$?
 kill -TERM "$sim_pid"
 wait "$sim_pid" 2>/dev/null || true
 pids=()
-stopped="$(grep -o 'stopped after [0-9]* cycles ([0-9]* overruns)' "$work/volcompd1k.err" || true)"
+stopped="$(grep -o 'stopped after [0-9]* cycles ([0-9]* overruns).*' "$work/volcompd1k.err" || true)"
 skipped="$(grep -o '([0-9]* deadlines skipped in total)' "$work/volcompd1k.err" | tail -1 || true)"
 report="$(grep '^{' "$work/sim2.out" | tail -1)"
 python3 - "$sustain" "$stopped" "$skipped" "$report" "$daemon_rc" <<'EOF'
@@ -126,11 +142,14 @@ sustain, stopped, skipped, report, rc = sys.argv[1:6]
 m = re.search(r"after (\d+) cycles \((\d+) overruns\)", stopped)
 cycles, overruns = (int(m.group(1)), int(m.group(2))) if m else (None, None)
 missed = re.search(r"\((\d+) deadlines", skipped)
+late = re.search(r"latest start (\d+) us after", stopped)
 r = json.loads(report) if report else {}
 print(f"cycles {cycles} in {sustain} s (expected {int(float(sustain) * 1000)}), overruns {overruns}, "
-      f"deadlines skipped {missed.group(1) if missed else 0}, exit status {rc}")
+      f"deadlines skipped {missed.group(1) if missed else 0}, latest cycle start "
+      f"{late.group(1) + ' us' if late else '?'} after its deadline, exit status {rc}")
 if r:
     print(f"controller saw {r['writes']} writes, {r['limiter_violations']} limiter violations, "
           f"{r['requests_unanswered']} unanswered requests; error RMS "
           f"{r['rms_uncompensated_um']:.2f} -> {r['rms_compensated_um']:.3f} um")
 EOF
+echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"

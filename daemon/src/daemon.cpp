@@ -147,8 +147,10 @@ bool Daemon::cycle() {
   if (report.state == LoopState::Finished) {
     finished_ = true;
     notifier_.notify("STATUS=stopped");
-    spdlog::info("stopped after {} cycles ({} overruns)", loop_.counters().cycles,
-                 scheduler_.overruns());
+    spdlog::info("stopped after {} cycles ({} overruns); latest start {} us after its deadline",
+                 loop_.counters().cycles, scheduler_.overruns(),
+                 std::chrono::duration_cast<std::chrono::microseconds>(scheduler_.maxWakeLateness())
+                     .count());
     if (onFinished_) asio::post(io_, onFinished_);
     return false;
   }

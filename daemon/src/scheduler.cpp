@@ -1,5 +1,6 @@
 #include "volcomp/daemon/scheduler.hpp"
 
+#include <algorithm>
 #include <utility>
 
 namespace volcomp::daemon {
@@ -37,6 +38,9 @@ void PeriodicScheduler::arm() {
 
 void PeriodicScheduler::onTimer(const std::error_code& ec) {
   if (ec || !running_) return;
+  // The timer never expires early: the deadline has passed here.
+  maxWakeLateness_ = std::max(
+      maxWakeLateness_, std::chrono::nanoseconds(std::chrono::steady_clock::now() - deadline_));
   ++cycles_;
   if (!cycle_()) {
     running_ = false;

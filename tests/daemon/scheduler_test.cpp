@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <asio/io_context.hpp>
 #include <asio/steady_timer.hpp>
 #include <chrono>
@@ -53,6 +54,9 @@ TEST(PeriodicScheduler, RunsOnAbsoluteDeadlinesAndCountsOverruns) {
   };
   std::vector<Seen> seen;
   seen.reserve(64);
+  // The scheduler reads the clock before the cycle does: its latest start is bounded by what the
+  // cycles saw.
+  std::chrono::nanoseconds latestSeen{0};
   PeriodicScheduler* self = nullptr;
   PeriodicScheduler scheduler(io, period, [&] {
     seen.push_back({self->deadline(), std::chrono::steady_clock::now()});
@@ -85,11 +89,14 @@ TEST(PeriodicScheduler, RunsOnAbsoluteDeadlinesAndCountsOverruns) {
   for (std::size_t i = 0; i < seen.size(); ++i) {
     // Never early, and every deadline lies on the grid first + k * period.
     EXPECT_GE(seen[i].start, seen[i].deadline) << i;
+    latestSeen = std::max(latestSeen, std::chrono::nanoseconds(seen[i].start - seen[i].deadline));
     EXPECT_EQ((seen[i].deadline - first) % period, std::chrono::nanoseconds(0)) << i;
     if (i > 0) {
       EXPECT_GT(seen[i].deadline, seen[i - 1].deadline) << i;
     }
   }
+  EXPECT_GE(scheduler.maxWakeLateness(), 0ns);
+  EXPECT_LE(scheduler.maxWakeLateness(), latestSeen);
   // The slow cycle made at least 3 deadlines pass: skipped and counted, not made up for.
   EXPECT_GE(scheduler.overruns(), 1u);
   EXPECT_GE(scheduler.missedDeadlines(), 3u);

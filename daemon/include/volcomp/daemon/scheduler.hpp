@@ -42,6 +42,10 @@ class PeriodicScheduler {
   /// Deadlines skipped because of overruns.
   std::uint64_t missedDeadlines() const noexcept { return missed_; }
   std::chrono::nanoseconds period() const noexcept { return period_; }
+  /// The largest delay so far between a deadline and the start of its cycle: the platform's
+  /// wake-up latency (timer, idle exit, the vCPU's return on a virtual machine), which an
+  /// overrun includes besides the cycle's own duration.
+  std::chrono::nanoseconds maxWakeLateness() const noexcept { return maxWakeLateness_; }
   /// The deadline of the cycle running now (or of the next one, between cycles).
   std::chrono::steady_clock::time_point deadline() const noexcept { return deadline_; }
 
@@ -53,6 +57,7 @@ class PeriodicScheduler {
   std::chrono::nanoseconds period_;
   Cycle cycle_;
   std::chrono::steady_clock::time_point deadline_{};
+  std::chrono::nanoseconds maxWakeLateness_{0};
   bool running_ = false;
   std::uint64_t cycles_ = 0;
   std::uint64_t overruns_ = 0;

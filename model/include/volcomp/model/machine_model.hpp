@@ -146,8 +146,9 @@ PointError evaluate(const MachineModel& model, Workspace& ws, const Eigen::Vecto
 /// E(q) and the angular error of many points with the model's own tool offset: out[i] is what
 /// evaluate(model, ws, qMm[i], directions[i], mode) returns, to rounding (a few 1e-16 relative).
 /// Built for throughput (NC programs, grids, calibration residuals): four points are composed side
-/// by side in the lanes of one SIMD register (AVX2 where the CPU has it); a block of four holding
-/// an error angle of 1e-2 rad or more, or a non-finite value, is evaluated point by point.
+/// by side in the lanes of one SIMD register (AVX2 where the CPU has it); a block of four in which
+/// a point's nine error angles are not all small (the sum of their squares reaches (1e-2 rad)^2),
+/// or a value is not finite, is evaluated point by point.
 /// `directions` is empty (every direction Unknown) or gives the direction of point i at i (points
 /// beyond its end take Unknown). Evaluates min(qMm.size(), out.size()) points; leaves the motion
 /// values of the last one in ws.motion, as evaluate() does.

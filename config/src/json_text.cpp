@@ -112,8 +112,8 @@ class CheckingSax : public nlohmann::detail::json_sax_dom_parser<Json> {
     frame.object = object;
     if (!frames_.empty()) {
       Frame& parent = frames_.back();
-      // Appended piece by piece: GCC 12 at -O3 reports a false -Wrestrict overlap for
-      // "." + key (GCC bug 105329), which breaks Release builds with warnings as errors.
+      // Appended piece by piece: GCC 12 at -O3 reports a false -Wrestrict overlap for "." + key
+      // inside libstdc++ (see the top CMakeLists.txt).
       if (parent.object) {
         if (frames_.size() != 1) frame.segment += '.';
         frame.segment += parent.key;

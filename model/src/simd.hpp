@@ -30,10 +30,6 @@ using Int4 = int __attribute__((vector_size(16)));
   return v;
 }
 
-[[gnu::always_inline]] inline void store4(double* p, const Double4& v) noexcept {
-  std::memcpy(p, &v, sizeof v);
-}
-
 [[gnu::always_inline]] inline Double2 splat2(double x) noexcept {
   return Double2{x, x};
 }

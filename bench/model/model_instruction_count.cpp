@@ -5,7 +5,8 @@
 //   valgrind --tool=callgrind ./model_instruction_count exact 3   (total I3)
 //   (I3 - I1) / (2 * 4096)
 // Operations: exact, first (EvalMode::FirstOrder), offset (solveOffset), motion (evaluateMotion),
-// batch and batchfirst (evaluateBatch over the sweep, Exact and FirstOrder).
+// batch and batchfirst (evaluateBatch over the sweep, Exact and FirstOrder), offsetbatch
+// (solveOffsetBatch over the sweep).
 
 #include <cstdio>
 #include <cstdlib>
@@ -20,17 +21,19 @@ int main(int argc, char** argv) {
   const std::string operation = argc > 1 ? argv[1] : "";
   const int sweeps = argc > 2 ? std::atoi(argv[2]) : 0;
   if ((operation != "exact" && operation != "first" && operation != "offset" &&
-       operation != "motion" && operation != "batch" && operation != "batchfirst") ||
+       operation != "motion" && operation != "batch" && operation != "batchfirst" &&
+       operation != "offsetbatch") ||
       sweeps < 1) {
     std::fprintf(stderr,
-                 "usage: model_instruction_count exact|first|offset|motion|batch|batchfirst "
-                 "SWEEPS\n");
+                 "usage: model_instruction_count "
+                 "exact|first|offset|motion|batch|batchfirst|offsetbatch SWEEPS\n");
     return 2;
   }
   const MachineModel model = bench::fullModel();
   const std::vector<Eigen::Vector3d> points = bench::sweep();
   Workspace ws;
   std::vector<PointError> out(points.size());
+  std::vector<OffsetSolution> offsets(points.size());
   // Summed and printed so that no evaluation can be optimised away.
   double sum = 0.0;
   for (int sweep = 0; sweep < sweeps; ++sweep) {
@@ -44,6 +47,9 @@ int main(int argc, char** argv) {
       evaluateBatch(model, ws, points, out,
                     operation == "batch" ? EvalMode::Exact : EvalMode::FirstOrder);
       for (const PointError& e : out) sum += e.errorMm.x();
+    } else if (operation == "offsetbatch") {
+      solveOffsetBatch(model, ws, points, offsets);
+      for (const OffsetSolution& o : offsets) sum += o.offsetMm.x();
     } else if (operation == "offset") {
       for (const auto& q : points) sum += solveOffset(model, ws, q).offsetMm.x();
     } else {

@@ -26,6 +26,9 @@ struct Kernels {
   /// evaluateBatch: points, directions (the first `directionCount` given), results, count.
   void (*many)(const MachineModel&, Workspace&, const Eigen::Vector3d*, const Directions*,
                std::size_t, PointError*, std::size_t, EvalMode) noexcept;
+  /// solveOffsetBatch, with the arguments of `many`.
+  void (*solveMany)(const MachineModel&, Workspace&, const Eigen::Vector3d*, const Directions*,
+                    std::size_t, OffsetSolution*, std::size_t, const OffsetOptions&) noexcept;
 };
 
 struct EvalPlan {

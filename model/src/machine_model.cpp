@@ -291,6 +291,15 @@ PointError evaluate(const MachineModel& model, Workspace& ws, const Eigen::Vecto
                                                            mode);
 }
 
+void solveOffsetBatch(const MachineModel& model, Workspace& ws,
+                      std::span<const Eigen::Vector3d> qMm, std::span<OffsetSolution> out,
+                      std::span<const Directions> directions,
+                      const OffsetOptions& options) noexcept {
+  detail::PlanAccess::plan(model).kernels->solveMany(model, ws, qMm.data(), directions.data(),
+                                                     directions.size(), out.data(),
+                                                     std::min(qMm.size(), out.size()), options);
+}
+
 OffsetSolution solveOffset(const MachineModel& model, Workspace& ws, const Eigen::Vector3d& qMm,
                            const Directions& directions, const OffsetOptions& options) noexcept {
   return detail::PlanAccess::plan(model).kernels->solve(model, ws, qMm, directions, options);

@@ -43,6 +43,7 @@ TEST(Allocation, EvaluateAndSolveNeverAllocate) {
     directions.push_back({Direction::Positive, Direction::Negative, Direction::Unknown});
   }
   std::vector<PointError> out(points.size());
+  std::vector<OffsetSolution> offsets(points.size());
   {
     CountAllocations counter;
     for (const MachineModel* model : {&full, &random}) {
@@ -67,6 +68,9 @@ TEST(Allocation, EvaluateAndSolveNeverAllocate) {
         evaluateBatch(*model, ws, points, out, mode, directions);
         sink = sink + out.back().errorMm.x();
       }
+      solveOffsetBatch(*model, ws, points, offsets);
+      solveOffsetBatch(*model, ws, points, offsets, directions);
+      sink = sink + offsets.back().offsetMm.x();
     }
     allocations = counter.count();
   }

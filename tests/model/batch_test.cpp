@@ -1,8 +1,8 @@
-// evaluateBatch composes four points side by side in SIMD lanes, with its own table lookup and
-// its own paths for large angles and non-finite values, so each of its results is held to
-// evaluate() of the same point. Both follow the same formulas and may differ by rounding only:
-// 1e-12 mm (and rad) is far below anything the model resolves and far above rounding (~1e-16
-// relative on values below 1e3 mm).
+// evaluateBatch and solveOffsetBatch compose four points side by side in SIMD lanes, with their
+// own table lookup and their own paths for large angles and non-finite values, so each of their
+// results is held to evaluate() / solveOffset() of the same point. Both follow the same formulas
+// and may differ by rounding only: 1e-12 mm (and rad) is far below anything the model resolves and
+// far above rounding (~1e-16 relative on values below 1e3 mm).
 
 #include <cmath>
 #include <limits>
@@ -72,6 +72,41 @@ void compareWithEvaluate(const MachineModel& model, const std::vector<Eigen::Vec
   }
 }
 
+// solveOffsetBatch over `points` against solveOffset() of each: the same offset (1e-12 mm), the
+// same outcome (converged, iterations, clamped axes) and residual (1e-12 mm).
+void compareWithSolveOffset(const MachineModel& model, const std::vector<Eigen::Vector3d>& points,
+                            const std::vector<Directions>& directions,
+                            const OffsetOptions& options = {}) {
+  Workspace ws, single;
+  std::vector<OffsetSolution> out(points.size());
+  solveOffsetBatch(model, ws, points, out, directions, options);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    SCOPED_TRACE(::testing::Message()
+                 << "point " << i << " of " << points.size() << ": " << points[i].transpose());
+    const Directions dirs = i < directions.size() ? directions[i] : Directions{};
+    const OffsetSolution expected = solveOffset(model, single, points[i], dirs, options);
+    expectSame(out[i].offsetMm, expected.offsetMm, "offsetMm");
+    EXPECT_EQ(out[i].converged, expected.converged);
+    EXPECT_EQ(out[i].iterations, expected.iterations);
+    EXPECT_EQ(out[i].clampedAxes, expected.clampedAxes);
+    if (std::isfinite(expected.residualMm)) {
+      EXPECT_NEAR(out[i].residualMm, expected.residualMm, kTolerance);
+    } else {
+      EXPECT_FALSE(std::isfinite(out[i].residualMm));
+    }
+  }
+  if (!points.empty()) {
+    // ws.motion holds the last point's motion values at its last evaluated position.
+    for (int c = 0; c < 18; ++c) {
+      if (std::isnan(single.motion[c])) {
+        EXPECT_TRUE(std::isnan(ws.motion[c]));
+      } else {
+        EXPECT_NEAR(ws.motion[c], single.motion[c], kTolerance) << "motion " << c;
+      }
+    }
+  }
+}
+
 // Every size from an empty batch through several blocks, with and without directions, with
 // directions for only part of the points, in both modes.
 void compareSizes(const MachineModel& model, std::mt19937& rng, double travelMm) {
@@ -86,6 +121,9 @@ void compareSizes(const MachineModel& model, std::mt19937& rng, double travelMm)
       compareWithEvaluate(model, points, directions, mode);
       compareWithEvaluate(model, points, some, mode);
     }
+    compareWithSolveOffset(model, points, {});
+    compareWithSolveOffset(model, points, directions);
+    compareWithSolveOffset(model, points, some);
   }
 }
 
@@ -185,6 +223,52 @@ TEST(Batch, NonFinitePositionsGiveWhatEvaluateGives) {
   }
 }
 
+// The offset solve's stopping rules per lane: an iteration limit that stops some points before
+// they converge (and none at all), a tolerance that none reaches, NaN and infinite positions in
+// a block beside finite ones.
+TEST(Batch, SolveOffsetStopsEachPointAsSolveOffsetDoes) {
+  const MachineModel model(testing::fullModel("XYFZ", 101, 3e-3));
+  std::mt19937 rng(23);
+  std::vector<Eigen::Vector3d> points = randomPoints(rng, 11, 400);
+  for (const int maxIterations : {0, 1, 2, 3, 50}) {
+    OffsetOptions options;
+    options.maxIterations = maxIterations;
+    SCOPED_TRACE(::testing::Message() << "maxIterations " << maxIterations);
+    compareWithSolveOffset(model, points, {}, options);
+  }
+  OffsetOptions unreachable;
+  unreachable.toleranceMm = 0.0;
+  unreachable.maxIterations = 6;
+  compareWithSolveOffset(model, points, {}, unreachable);
+  points[2].x() = std::numeric_limits<double>::quiet_NaN();
+  points[5].y() = std::numeric_limits<double>::infinity();
+  compareWithSolveOffset(model, points, {});
+  Workspace ws;
+  std::vector<OffsetSolution> out(points.size());
+  solveOffsetBatch(model, ws, points, out);
+  EXPECT_FALSE(out[2].converged);
+  EXPECT_FALSE(out[5].converged);
+  EXPECT_TRUE(out[3].converged);
+}
+
+// The offsets put the tool on the nominal point: p(q + o) - p0(q) = E(q + o) + o below the
+// tolerance, checked with evaluate() at q + o.
+TEST(Batch, SolveOffsetReachesTheNominalPoint) {
+  std::mt19937 rng(29);
+  for (const char* topology : {"XYFZ", "FXYZ", "ZFXY"}) {
+    const MachineModel model(testing::fullModel(topology, 101, 1e-3));
+    const std::vector<Eigen::Vector3d> points = randomPoints(rng, 50, 400);
+    std::vector<OffsetSolution> out(points.size());
+    Workspace ws;
+    solveOffsetBatch(model, ws, points, out);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      ASSERT_TRUE(out[i].converged) << topology << " point " << i;
+      const PointError at = evaluate(model, ws, points[i] + out[i].offsetMm);
+      EXPECT_LT((at.errorMm + out[i].offsetMm).norm(), 1e-9) << topology << " point " << i;
+    }
+  }
+}
+
 // An output shorter than the input: only what fits is evaluated.
 TEST(Batch, EvaluatesAsManyPointsAsTheOutputHolds) {
   const MachineModel model(testing::fullModel("XYFZ"));
@@ -195,6 +279,11 @@ TEST(Batch, EvaluatesAsManyPointsAsTheOutputHolds) {
   evaluateBatch(model, ws, points, out);
   for (std::size_t i = 0; i < out.size(); ++i) {
     expectSame(out[i].errorMm, evaluate(model, single, points[i]).errorMm, "errorMm");
+  }
+  std::vector<OffsetSolution> offsets(2);
+  solveOffsetBatch(model, ws, points, offsets);
+  for (std::size_t i = 0; i < offsets.size(); ++i) {
+    expectSame(offsets[i].offsetMm, solveOffset(model, single, points[i]).offsetMm, "offsetMm");
   }
 }
 
@@ -216,6 +305,14 @@ TEST(Batch, BaselineBuildAgrees) {
         expectSame(out[i].angularErrorRad, outGeneric[i].angularErrorRad, "angularErrorRad");
         EXPECT_EQ(out[i].clampedAxes, outGeneric[i].clampedAxes);
       }
+    }
+    std::vector<OffsetSolution> offsets(points.size()), offsetsGeneric(points.size());
+    solveOffsetBatch(model, ws, points, offsets);
+    generic.solveMany(model, ws, points.data(), nullptr, 0, offsetsGeneric.data(), points.size(),
+                      OffsetOptions{});
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      expectSame(offsets[i].offsetMm, offsetsGeneric[i].offsetMm, "offsetMm");
+      EXPECT_EQ(offsets[i].converged, offsetsGeneric[i].converged);
     }
   }
 }

@@ -1,4 +1,5 @@
-// volcomp: command-line access to volumetric error models (verbs `eval`, `check`, `calibrate`).
+// volcomp: command-line access to volumetric error models (verbs `eval`, `check`, `calibrate`,
+// `iso230-2`, `export`).
 // Errors are caught here only: one line on stderr, exit status 2 for bad arguments or files.
 
 #include <exception>
@@ -11,6 +12,7 @@
 #include "check_verb.hpp"
 #include "cli_support.hpp"
 #include "eval_verb.hpp"
+#include "iso230_2_verb.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/model/types.hpp"
 
@@ -44,6 +46,8 @@ int main(int argc, char** argv) {
   CLI::App* check = addCheckVerb(app, checkOptions);
   volcomp::calibration::CalibrateOptions calibrateOptions;
   CLI::App* calibrate = addCalibrateVerb(app, calibrateOptions);
+  Iso230Options iso230Options;
+  CLI::App* iso230 = addIso230Verb(app, iso230Options);
 
   try {
     app.parse(argc, argv);
@@ -57,6 +61,7 @@ int main(int argc, char** argv) {
     if (eval->parsed()) return runEval(evalOptions, std::cout, std::cerr);
     if (check->parsed()) return runCheck(checkOptions, std::cout);
     if (calibrate->parsed()) return volcomp::calibration::runCalibrate(calibrateOptions, std::cout);
+    if (iso230->parsed()) return runIso230(iso230Options, std::cout, std::cerr);
   } catch (const volcomp::config::ConfigError& e) {
     std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
     return kExitBadInput;

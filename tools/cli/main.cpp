@@ -12,6 +12,7 @@
 #include "check_verb.hpp"
 #include "cli_support.hpp"
 #include "eval_verb.hpp"
+#include "export_verb.hpp"
 #include "iso230_2_verb.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/model/types.hpp"
@@ -48,6 +49,8 @@ int main(int argc, char** argv) {
   CLI::App* calibrate = addCalibrateVerb(app, calibrateOptions);
   Iso230Options iso230Options;
   CLI::App* iso230 = addIso230Verb(app, iso230Options);
+  ExportOptions exportOptions;
+  CLI::App* exportVerb = addExportVerb(app, exportOptions);
 
   try {
     app.parse(argc, argv);
@@ -62,6 +65,7 @@ int main(int argc, char** argv) {
     if (check->parsed()) return runCheck(checkOptions, std::cout);
     if (calibrate->parsed()) return volcomp::calibration::runCalibrate(calibrateOptions, std::cout);
     if (iso230->parsed()) return runIso230(iso230Options, std::cout, std::cerr);
+    if (exportVerb->parsed()) return runExport(exportOptions, std::cout);
   } catch (const volcomp::config::ConfigError& e) {
     std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
     return kExitBadInput;

@@ -13,6 +13,9 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev socat python3 systemd
   # CAN tests in a QEMU guest (this kernel may have no CAN): emulator, busybox, can-utils
   qemu-system-x86 busybox-static can-utils
+  # controller-table tests: LinuxCNC 2.9 (headless, simulated machine; python3 linuxcnc and hal
+  # modules) and flock for its one-instance lock
+  linuxcnc-uspace util-linux
 )
 
 SUDO=""

@@ -1,0 +1,164 @@
+// The positioning-run CSV reader and what the evaluation refuses and warns about.
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "volcomp/config/config_error.hpp"
+#include "volcomp/metrology/iso230_2.hpp"
+#include "volcomp/metrology/positioning_runs.hpp"
+
+namespace volcomp::metrology {
+namespace {
+
+PositioningRuns parse(const std::string& text, const std::string& axis = {}) {
+  std::istringstream in(text);
+  return parsePositioningCsv(in, "runs.csv", axis);
+}
+
+std::string errorOf(const std::string& text, const std::string& axis = {}) {
+  try {
+    evaluateIso230_2(parse(text, axis));
+  } catch (const config::ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+/// A valid test: `runs` runs per direction at the given targets, deviation = run * 0.1 um.
+std::string table(int runsUp, int runsDown, const std::vector<double>& targets,
+                  const std::string& header = "run,direction,target_mm,deviation_um") {
+  std::ostringstream csv;
+  csv << header << '\n';
+  for (int run = 1; run <= std::max(runsUp, runsDown); ++run) {
+    for (double t : targets) {
+      if (run <= runsUp) csv << run << ",+," << t << ',' << 0.1 * run << '\n';
+      if (run <= runsDown) csv << run << ",-," << t << ',' << 1 + 0.1 * run << '\n';
+    }
+  }
+  return csv.str();
+}
+
+const std::vector<double> kTargets{0, 21.5, 39.5, 62, 80};
+
+TEST(RunsCsv, UnitsAndAliasesInTheHeader) {
+  const PositioningRuns runs = parse(
+      "# comment\n\nRun Number, Direction, Target [m], Actual (mm), Temp_C\n"
+      "1, forward, 0.1, 100.0025, 20.1\n2, ↓, 0.1, 99.999, 20.2\n");
+  ASSERT_EQ(runs.samples.size(), 2u);
+  EXPECT_DOUBLE_EQ(runs.samples[0].targetMm, 100.0);
+  EXPECT_NEAR(runs.samples[0].deviationMm, 0.0025, 1e-12);
+  EXPECT_EQ(runs.samples[0].direction, model::Direction::Positive);
+  EXPECT_EQ(runs.samples[1].direction, model::Direction::Negative);
+  EXPECT_NEAR(runs.samples[1].deviationMm, -0.001, 1e-12);
+  EXPECT_EQ(runs.samples[1].line, 5);
+  EXPECT_EQ(runs.ignoredColumns, (std::vector<std::string>{"Temp_C"}));
+}
+
+TEST(RunsCsv, SemicolonsWithDecimalCommas) {
+  const PositioningRuns runs = parse("Target_mm;Deviation_µm;Run;Direction\n12,5;-1,25;3;up\n");
+  ASSERT_EQ(runs.samples.size(), 1u);
+  EXPECT_DOUBLE_EQ(runs.samples[0].targetMm, 12.5);
+  EXPECT_NEAR(runs.samples[0].deviationMm, -0.00125, 1e-15);
+  EXPECT_EQ(runs.samples[0].run, 3);
+}
+
+TEST(RunsCsv, NanometresAndInches) {
+  const PositioningRuns runs = parse("target_in,error_nm,run,dir\n1,250,1,+\n");
+  EXPECT_DOUBLE_EQ(runs.samples[0].targetMm, 25.4);
+  EXPECT_NEAR(runs.samples[0].deviationMm, 0.00025, 1e-15);
+}
+
+TEST(RunsCsv, AxisColumnAndFilter) {
+  const std::string text =
+      "axis,run,direction,target_mm,deviation_um\nX,1,+,0,1\nY,1,+,0,2\nx,2,+,0,3\n";
+  const PositioningRuns x = parse(text, "x");
+  EXPECT_EQ(x.axis, "X");
+  EXPECT_EQ(x.samples.size(), 2u);
+  try {
+    parse(text);
+    FAIL() << "two axes accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("several axes (X, Y): choose one with --axis"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(parse("run,direction,target_mm,deviation_um\n1,+,0,1\n", "Z").axis, "Z");
+}
+
+TEST(RunsCsv, BadInputNamesFileLineAndColumn) {
+  const auto message = [](const std::string& text) -> std::string {
+    try {
+      parse(text);
+    } catch (const config::ConfigError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  EXPECT_EQ(message("run,direction,target,deviation_um\n"),
+            "runs.csv: line 1, column target: a length column needs its unit in the header, e.g. "
+            "\"target_mm\" (units: nm, um, mm, m, in)");
+  EXPECT_EQ(message("run,direction,target_mm,deviation_um\n1,+,0,abc\n"),
+            "runs.csv: line 2, column deviation_um: expected a finite number, got \"abc\"");
+  EXPECT_NE(message("run,direction,target_mm,deviation_um\n1,sideways,0,1\n")
+                .find("runs.csv: line 2, column direction: expected the approach direction"),
+            std::string::npos);
+  EXPECT_NE(message("run,direction,target_mm\n").find("has no deviation"), std::string::npos);
+  EXPECT_NE(message("run,direction,target_mm,deviation_um\n1.5,+,0,1\n").find("run number"),
+            std::string::npos);
+  EXPECT_NE(message("run,direction,target_mm,deviation_um\n1,+\n").find("expected 4 fields"),
+            std::string::npos);
+  EXPECT_NE(message("run,direction,target_mm,deviation_furlong\n").find("has no deviation"),
+            std::string::npos);
+  EXPECT_EQ(message(""), "runs.csv: no header line (the file is empty)");
+}
+
+TEST(Iso230Refusals, FewerThanFiveRunsInADirection) {
+  EXPECT_EQ(errorOf(table(5, 4, kTargets)),
+            "runs.csv: 4 run(s) in the negative (↓) direction: ISO 230-2 needs at least 5 runs in "
+            "each direction");
+  EXPECT_NE(errorOf(table(5, 0, kTargets)).find("0 run(s) in the negative"), std::string::npos);
+  EXPECT_NE(errorOf(table(3, 5, kTargets)).find("3 run(s) in the positive"), std::string::npos);
+}
+
+TEST(Iso230Refusals, FewerThanFiveTargets) {
+  EXPECT_EQ(errorOf(table(5, 5, {0, 10, 25, 40})),
+            "runs.csv: 4 target position(s): ISO 230-2 needs at least 5");
+}
+
+TEST(Iso230Refusals, UnequalTargets) {
+  std::string text = table(5, 5, kTargets);
+  // Drop run 3's reading at 39.5 going down.
+  const std::string line = "3,-,39.5,1.3\n";
+  ASSERT_NE(text.find(line), std::string::npos);
+  text.erase(text.find(line), line.size());
+  EXPECT_EQ(errorOf(text),
+            "runs.csv: unequal targets: run 3 ↓ has no reading at target 39.5 mm (ISO 230-2 needs "
+            "every run to visit the same target positions in both directions)");
+  // A target only one run visits.
+  EXPECT_NE(errorOf(table(5, 5, kTargets) + "2,+,50,0\n").find("has no reading at target 50 mm"),
+            std::string::npos);
+  // A second reading of a pass at the same target.
+  EXPECT_NE(errorOf(table(5, 5, kTargets) + "2,+,62,0\n")
+                .find("line 52: run 2 ↑ has a second reading at target 62 mm"),
+            std::string::npos)
+      << errorOf(table(5, 5, kTargets) + "2,+,62,0\n");
+}
+
+TEST(Iso230Warnings, EvenSpacingFewTargetsPerMetreUnequalRuns) {
+  const Iso230Result even = evaluateIso230_2(parse(table(5, 5, {0, 100, 200, 300, 400})));
+  ASSERT_EQ(even.warnings.size(), 1u);
+  EXPECT_NE(even.warnings[0].find("evenly spaced (every interval 100 mm)"), std::string::npos);
+  const Iso230Result sparse =
+      evaluateIso230_2(parse(table(5, 6, {0, 230, 470, 690, 950, 1200, 1440})));
+  ASSERT_EQ(sparse.warnings.size(), 2u);
+  EXPECT_NE(sparse.warnings[0].find("5 runs ↑ but 6 runs ↓"), std::string::npos);
+  EXPECT_NE(sparse.warnings[1].find("target positions per metre"), std::string::npos);
+  const Iso230Result longAxis = evaluateIso230_2(
+      parse(table(5, 5, {0, 240, 490, 760, 1010, 1230, 1500, 1740, 2010, 2250, 2500, 2760, 3000})));
+  ASSERT_EQ(longAxis.warnings.size(), 1u);
+  EXPECT_NE(longAxis.warnings[0].find("over 2000 mm differently"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace volcomp::metrology

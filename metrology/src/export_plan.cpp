@@ -78,28 +78,40 @@ AxisGrid planGrid(const model::MachineModelSpec& spec, Axis axis, const GridStep
   return makeGrid(axisRange(spec, axis), steps[static_cast<std::size_t>(axis)]);
 }
 
-ExportPlan planLinuxCnc(const model::MachineModelSpec& spec, const GridSteps& steps) {
-  ExportPlan plan;
-  std::set<std::string> carried;
+/// Calls visit(axis, motion index, name, grid, function) for each positioning component present.
+template <typename Visit>
+void forEachPositioning(const model::MachineModelSpec& spec, const GridSteps& steps, Visit visit) {
   for (Axis axis : kAxes) {
     const int index = positioningIndex(axis);
     const auto& function = spec.motion[static_cast<std::size_t>(index)];
     if (!isPresent(function)) continue;
-    const AxisGrid grid = planGrid(spec, axis, steps);
-    const std::string name = model::motionName(index);
-    if (isBidirectional(function)) {
-      plan.tables.push_back(sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Positive));
-      plan.tables.push_back(sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Negative));
-      plan.carried.push_back(name + " -> joint of " + axisName(axis) +
-                             ": forward column from values, reverse from values_negative, " +
-                             gridText(grid));
-    } else {
-      plan.tables.push_back(sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Unknown));
-      plan.carried.push_back(name + " -> joint of " + axisName(axis) +
-                             ": the same curve forward and reverse, " + gridText(grid));
-    }
-    carried.insert(name);
+    visit(axis, index, model::motionName(index), planGrid(spec, axis, steps), function);
   }
+}
+
+ExportPlan planLinuxCnc(const model::MachineModelSpec& spec, const GridSteps& steps) {
+  ExportPlan plan;
+  std::set<std::string> carried;
+  forEachPositioning(
+      spec, steps,
+      [&](Axis axis, int index, const std::string& name, const AxisGrid& grid,
+          const model::ErrorFunctionSpec& f) {
+        if (isBidirectional(f)) {
+          plan.tables.push_back(
+              sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Positive));
+          plan.tables.push_back(
+              sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Negative));
+          plan.carried.push_back(name + " -> joint of " + axisName(axis) +
+                                 ": forward column from values, reverse from values_negative, " +
+                                 gridText(grid));
+        } else {
+          plan.tables.push_back(
+              sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Unknown));
+          plan.carried.push_back(name + " -> joint of " + axisName(axis) +
+                                 ": the same curve forward and reverse, " + gridText(grid));
+        }
+        carried.insert(name);
+      });
   listNotCarried(spec, carried,
                  "straightness; a joint's COMP_FILE corrects that joint along itself only",
                  "squareness; a joint's COMP_FILE cannot move another joint", plan);
@@ -109,31 +121,32 @@ ExportPlan planLinuxCnc(const model::MachineModelSpec& spec, const GridSteps& st
 ExportPlan planSiemens(const model::MachineModelSpec& spec, const GridSteps& steps) {
   ExportPlan plan;
   std::set<std::string> carried;
-  for (Axis axis : kAxes) {
-    const int index = positioningIndex(axis);
-    const auto& function = spec.motion[static_cast<std::size_t>(index)];
-    if (!isPresent(function)) continue;
-    const AxisGrid grid = planGrid(spec, axis, steps);
-    const std::string name = model::motionName(index);
-    const AxisTable mean = sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Unknown);
-    plan.tables.push_back(mean);
-    if (isBidirectional(function)) {
-      const AxisTable up = sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Positive);
-      const AxisTable down = sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Negative);
-      plan.tables.push_back(difference(up, mean, +1));
-      plan.tables.push_back(difference(down, mean, -1));
-      plan.carried.push_back(name + " -> LEC of " + axisName(axis) +
-                             " (mean of values and values_negative) plus two direction-dependent "
-                             "CEC tables " +
-                             axisName(axis) + " -> " + axisName(axis) +
-                             " (each curve minus the "
-                             "mean), " +
-                             gridText(grid));
-    } else {
-      plan.carried.push_back(name + " -> LEC of " + axisName(axis) + ", " + gridText(grid));
-    }
-    carried.insert(name);
-  }
+  forEachPositioning(
+      spec, steps,
+      [&](Axis axis, int index, const std::string& name, const AxisGrid& grid,
+          const model::ErrorFunctionSpec& f) {
+        const AxisTable mean = sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Unknown);
+        plan.tables.push_back(mean);
+        if (isBidirectional(f)) {
+          const AxisTable up =
+              sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Positive);
+          const AxisTable down =
+              sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Negative);
+          plan.tables.push_back(difference(up, mean, +1));
+          plan.tables.push_back(difference(down, mean, -1));
+          plan.carried.push_back(
+              name + " -> LEC of " + axisName(axis) +
+              " (mean of values and values_negative) plus two direction-dependent "
+              "CEC tables " +
+              axisName(axis) + " -> " + axisName(axis) +
+              " (each curve minus the "
+              "mean), " +
+              gridText(grid));
+        } else {
+          plan.carried.push_back(name + " -> LEC of " + axisName(axis) + ", " + gridText(grid));
+        }
+        carried.insert(name);
+      });
   for (Axis input : kAxes) {
     for (Axis output : kAxes) {
       if (input == output) continue;

@@ -29,6 +29,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <sstream>
 
 #include "volcomp/config/config_error.hpp"
@@ -73,6 +74,25 @@ Iso230Result evaluateHand() {
   return evaluateIso230_2(parsePositioningCsv(in, "hand.csv", "X"));
 }
 
+/// Axis figures in um in the order B, B̄, R↑, R↓, R, E↑, E↓, E, M, A↑, A↓, A.
+void expectAxisFigures(const AxisFigures& a, const std::array<double, 12>& um) {
+  const double actual[] = {a.reversalMm,
+                           a.meanReversalMm,
+                           a.repeatabilityPositiveMm,
+                           a.repeatabilityNegativeMm,
+                           a.repeatabilityBidirectionalMm,
+                           a.systematicPositiveMm,
+                           a.systematicNegativeMm,
+                           a.systematicBidirectionalMm,
+                           a.meanBidirectionalRangeMm,
+                           a.accuracyPositiveMm,
+                           a.accuracyNegativeMm,
+                           a.accuracyBidirectionalMm};
+  const char* names[] = {"B",      "B mean", "R up", "R down", "R",      "E up",
+                         "E down", "E",      "M",    "A up",   "A down", "A"};
+  for (std::size_t i = 0; i < 12; ++i) EXPECT_NEAR(actual[i], um[i] * kUm, kTol) << names[i];
+}
+
 TEST(Iso230Hand, PerTargetFiguresMatchTheWorkedValues) {
   const Iso230Result r = evaluateHand();
   ASSERT_EQ(r.targets.size(), 5u);
@@ -101,19 +121,7 @@ TEST(Iso230Hand, PerTargetFiguresMatchTheWorkedValues) {
 
 TEST(Iso230Hand, AxisFiguresMatchTheWorkedValues) {
   const Iso230Result r = evaluateHand();
-  const AxisFigures& a = r.figures;
-  EXPECT_NEAR(a.reversalMm, 4 * kUm, kTol);
-  EXPECT_NEAR(a.meanReversalMm, -3.2 * kUm, kTol);
-  EXPECT_NEAR(a.repeatabilityPositiveMm, 8 * kUm, kTol);
-  EXPECT_NEAR(a.repeatabilityNegativeMm, 8 * kUm, kTol);
-  EXPECT_NEAR(a.repeatabilityBidirectionalMm, 10 * kUm, kTol);
-  EXPECT_NEAR(a.systematicPositiveMm, 4 * kUm, kTol);
-  EXPECT_NEAR(a.systematicNegativeMm, 5 * kUm, kTol);
-  EXPECT_NEAR(a.systematicBidirectionalMm, 8 * kUm, kTol);
-  EXPECT_NEAR(a.meanBidirectionalRangeMm, 4.5 * kUm, kTol);
-  EXPECT_NEAR(a.accuracyPositiveMm, 8 * kUm, kTol);
-  EXPECT_NEAR(a.accuracyNegativeMm, 11 * kUm, kTol);
-  EXPECT_NEAR(a.accuracyBidirectionalMm, 14 * kUm, kTol);
+  expectAxisFigures(r.figures, {4, -3.2, 8, 8, 10, 4, 5, 8, 4.5, 8, 11, 14});
   EXPECT_EQ(r.runsPositive, (std::vector<int>{1, 2, 3, 4, 5}));
   EXPECT_EQ(r.runsNegative, (std::vector<int>{1, 2, 3, 4, 5}));
   EXPECT_EQ(r.axis, "X");
@@ -137,18 +145,7 @@ TEST(Iso230Hand, ReversalOfTheAxisIsTheLargestMagnitude) {
   }
   std::istringstream in(csv.str());
   const Iso230Result r = evaluateIso230_2(parsePositioningCsv(in, "b.csv"));
-  const AxisFigures& a = r.figures;
-  EXPECT_NEAR(a.reversalMm, 5 * kUm, kTol);
-  EXPECT_NEAR(a.meanReversalMm, 0.2 * kUm, kTol);
-  EXPECT_NEAR(a.repeatabilityBidirectionalMm, 5 * kUm, kTol);
-  EXPECT_NEAR(a.repeatabilityPositiveMm, 0.0, kTol);
-  EXPECT_NEAR(a.systematicPositiveMm, 5 * kUm, kTol);
-  EXPECT_NEAR(a.systematicNegativeMm, 1 * kUm, kTol);
-  EXPECT_NEAR(a.systematicBidirectionalMm, 5 * kUm, kTol);
-  EXPECT_NEAR(a.meanBidirectionalRangeMm, 2 * kUm, kTol);
-  EXPECT_NEAR(a.accuracyPositiveMm, 5 * kUm, kTol);
-  EXPECT_NEAR(a.accuracyNegativeMm, 1 * kUm, kTol);
-  EXPECT_NEAR(a.accuracyBidirectionalMm, 5 * kUm, kTol);
+  expectAxisFigures(r.figures, {5, 0.2, 0, 0, 5, 5, 1, 5, 2, 5, 1, 5});
   EXPECT_TRUE(r.axis.empty());
 }
 

@@ -189,6 +189,11 @@ void printSummary(const ExportOptions& options, const ExportPlan& plan,
       << "  live (volcompd)    " << std::string(10 - um(r.live.rmsMm).size(), ' ')
       << um(r.live.rmsMm) << std::string(11 - um(r.live.maxMm).size(), ' ') << um(r.live.maxMm)
       << '\n';
+  if (r.tablesOnly.rmsMm > r.uncompensated.rmsMm) {
+    out << "  note: these tables alone leave a larger error than none: in this model the errors "
+           "they\n"
+           "  carry partly offset errors they cannot carry (angles, squareness, straightness)\n";
+  }
   if (r.liveNotConverged > 0) {
     out << "  (the live offset did not converge at " << r.liveNotConverged << " point(s))\n";
   }

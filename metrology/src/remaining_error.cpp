@@ -95,8 +95,9 @@ RemainingError remainingError(const model::MachineModelSpec& spec,
   for (std::size_t i = 0; i < errors.size(); ++i) {
     tablesOnly.add((errors[i].errorMm + corrections[i]).norm());
   }
-  for (std::size_t i = 0; i < commanded.size(); ++i) {
-    const model::OffsetSolution o = model::solveOffset(machine, ws, commanded[i], directions[i]);
+  std::vector<model::OffsetSolution> offsets(commanded.size());
+  model::solveOffsetBatch(machine, ws, commanded, offsets, directions);
+  for (const model::OffsetSolution& o : offsets) {
     if (!o.converged) ++result.liveNotConverged;
     live.add(o.residualMm);
   }

@@ -9,7 +9,8 @@
 /// (b) applies the tables as the controllers do, looked up at the commanded position: the
 /// commanded point q becomes q + c with c_L = -Σ e(q_input) over the tables whose output is L
 /// (direction-dependent tables only in their direction), and what is left is
-/// p(q + c) - p0(q) = E(q + c) + c. (c) is the residual of solveOffset, p(q + o) - p0(q).
+/// p(q + c) - p0(q) = E(q + c) + c. (c) is the residual of the live offset solve
+/// (solveOffsetBatch), p(q + o) - p0(q). Both (a) and (b) go through evaluateBatch.
 
 #include <array>
 #include <cstddef>

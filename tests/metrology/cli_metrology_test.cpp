@@ -4,6 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sstream>
+#include <vector>
+
 #include "../cli/run_cli.hpp"
 
 namespace volcomp::testing {
@@ -35,6 +38,47 @@ TEST(CliIso230, EvaluatesTheExampleAndWritesJsonAndAModel) {
   EXPECT_NEAR(merged.at("components").at("EXX").at("values")[0].get<double>(), -meanUp0 * 1000,
               1e-9);
   EXPECT_EQ(runCli(dir, "check " + quoted(model)).status, 0);
+}
+
+// The whole chain keeps the sign: a laser curve x̄ measured on the workpiece-side X of an XYFZ
+// machine goes into the model as EXX = -x̄ and comes out of the LinuxCNC export (type 0: where the
+// joint really is) as nominal + x̄, forward from x̄↑ and reverse from x̄↓, interpolated linearly
+// between the targets.
+TEST(CliIso230, MeasuredCurveComesBackInTheLinuxCncTable) {
+  TempDir dir;
+  const std::string json = (dir.path() / "r.json").string();
+  const std::string model = (dir.path() / "exx.json").string();
+  ASSERT_EQ(runCli(dir, "iso230-2 " + quoted(kExamples + "/iso230-2-x-runs.csv") + " --json " +
+                            quoted(json) + " --model-out " + quoted(model) + " --topology XYFZ")
+                .status,
+            0);
+  const CliRun exported = runCli(dir, "export " + quoted(model) +
+                                          " --format linuxcnc --comp-type 0 "
+                                          "--out " +
+                                          quoted((dir.path() / "l").string()));
+  ASSERT_EQ(exported.status, 0) << exported.err;
+  const nlohmann::json result = nlohmann::json::parse(readFile(json));
+  std::vector<double> targets, up, down;
+  for (const nlohmann::json& t : result.at("targets")) {
+    targets.push_back(t.at("position").get<double>());
+    up.push_back(t.at("mean_positive").get<double>());
+    down.push_back(t.at("mean_negative").get<double>());
+  }
+  const auto interpolate = [&](const std::vector<double>& values, double q) {
+    std::size_t i = 0;
+    while (i + 2 < targets.size() && q > targets[i + 1]) ++i;
+    const double t = (q - targets[i]) / (targets[i + 1] - targets[i]);
+    return values[i] + t * (values[i + 1] - values[i]);
+  };
+  std::istringstream lines(readFile(dir.path() / "l" / "joint0.comp"));
+  double nominal = 0, forward = 0, reverse = 0;
+  int rows = 0;
+  while (lines >> nominal >> forward >> reverse) {
+    EXPECT_NEAR(forward - nominal, interpolate(up, nominal), 2e-7) << nominal;
+    EXPECT_NEAR(reverse - nominal, interpolate(down, nominal), 2e-7) << nominal;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 86);
 }
 
 TEST(CliIso230, RefusalsAreOneLineWithStatusTwo) {

@@ -16,7 +16,7 @@ std::vector<std::string> TransportRegistry::types() const {
   return out;
 }
 
-std::unique_ptr<ControllerPort> TransportRegistry::create(
+std::unique_ptr<loop::ControllerPort> TransportRegistry::create(
     const config::DaemonConfig& config) const {
   const auto it = factories_.find(config.transportType);
   if (it == factories_.end()) {
@@ -30,7 +30,7 @@ std::unique_ptr<ControllerPort> TransportRegistry::create(
                                   "\" is built into this volcompd (available: " +
                                   (available.empty() ? std::string("none") : available) + ")");
   }
-  std::unique_ptr<ControllerPort> port = it->second(config.transport, config.file);
+  std::unique_ptr<loop::ControllerPort> port = it->second(config.transport, config.file);
   if (!port) {
     throw config::ConfigError(config.file, "transport", "the driver returned no port");
   }

@@ -19,16 +19,12 @@
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/daemon/daemon.hpp"
 #include "volcomp/daemon/notifier.hpp"
-#include "volcomp/daemon/steady_clock.hpp"
 #include "volcomp/daemon/transport_registry.hpp"
+#include "volcomp/loop/steady_clock.hpp"
 #include "volcomp/model/types.hpp"
 
-#ifdef VOLCOMPD_HAVE_MODBUS
-#include "volcomp/modbus/controller_port.hpp"
-#endif
-#ifdef VOLCOMPD_HAVE_CAN
 #include "volcomp/can/controller_port.hpp"
-#endif
+#include "volcomp/modbus/controller_port.hpp"
 
 namespace {
 
@@ -66,26 +62,22 @@ void setUpLogging() {
 
 TransportRegistry builtInTransports() {
   TransportRegistry registry;
-#ifdef VOLCOMPD_HAVE_MODBUS
   const auto modbus = [](const nlohmann::json& section, const std::string& file) {
     return volcomp::modbus::makeControllerPort(section, file, "transport");
   };
   registry.add("modbus-tcp", modbus);
   registry.add("modbus-rtu", modbus);
-#endif
-#ifdef VOLCOMPD_HAVE_CAN
   registry.add("can",
                [](const nlohmann::json& section,
-                  const std::string& file) -> std::unique_ptr<volcomp::daemon::ControllerPort> {
+                  const std::string& file) -> std::unique_ptr<volcomp::loop::ControllerPort> {
                  return volcomp::can::makeCanControllerPort(section, file, "transport");
                });
-#endif
   return registry;
 }
 
 int run(const std::string& configPath, bool checkOnly, bool verbose) {
   volcomp::daemon::LoadedConfiguration loaded;
-  std::unique_ptr<volcomp::daemon::ControllerPort> port;
+  std::unique_ptr<volcomp::loop::ControllerPort> port;
   const TransportRegistry registry = builtInTransports();
   try {
     loaded = volcomp::daemon::loadConfiguration(configPath);
@@ -106,7 +98,7 @@ int run(const std::string& configPath, bool checkOnly, bool verbose) {
   }
 
   asio::io_context io;
-  volcomp::daemon::SteadyClock clock;
+  volcomp::loop::SteadyClock clock;
   volcomp::daemon::SystemdNotifier notifier;
   asio::signal_set signals(io, SIGINT, SIGTERM, SIGHUP);
   volcomp::daemon::Daemon daemon(

@@ -42,8 +42,8 @@ TEST(VcanAllocation, ReadAndWriteDoNotAllocateOnceRunning) {
   const std::vector<std::uint8_t> frame101{0x60, 0xDA, 0xD9, 0xFF, 0x03, 0x00, 0x00, 0x00};
   auto f100 = frame100;
   auto f101 = frame101;
-  daemon::AxisSample sample;
-  daemon::OffsetCommand command;
+  loop::AxisSample sample;
+  loop::OffsetCommand command;
   std::size_t failures = 0;
   auto cycle = [&](std::uint8_t sequence) {
     f100[7] = sequence;

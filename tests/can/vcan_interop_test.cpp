@@ -77,7 +77,7 @@ TEST_F(CanUtilsInterop, CansendFramesAreUnderstood) {
   const std::string iface = test::interfaceName();
   ASSERT_EQ(test::run("cansend " + iface + " 00000100#12D687FFFFFF0005"), 0);
   ASSERT_EQ(test::run("cansend " + iface + " 00000101#FFD9DA60C0000005"), 0);
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   ASSERT_FALSE(port_->read(sample));
   EXPECT_NEAR(sample.positionMm[0], 123.4567, 1e-9);
   EXPECT_NEAR(sample.positionMm[1], -0.0001, 1e-12);
@@ -103,7 +103,7 @@ TEST_F(CanUtilsInterop, WrittenFramesAreDecodedByCandump) {
   test::OutputReader candump("candump -L " + test::interfaceName() +
                              ",00000300:1FFFFFFF,00000301:1FFFFFFF");
   ASSERT_TRUE(candump.ok());
-  daemon::OffsetCommand command;
+  loop::OffsetCommand command;
   command.offsetMm = {0.012, -0.002, 0.25};
   command.status = 0x1009;
   command.heartbeat = 300;

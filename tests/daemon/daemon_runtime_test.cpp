@@ -16,12 +16,18 @@
 #include "fakes.hpp"
 #include "notify_socket.hpp"
 #include "volcomp/config/config_error.hpp"
-#include "volcomp/daemon/steady_clock.hpp"
+#include "volcomp/loop/steady_clock.hpp"
 
 namespace volcomp::daemon::testing {
 namespace {
 
 using namespace std::chrono_literals;
+using loop::LoopState;
+using loop::OffsetCommand;
+using loop::SteadyClock;
+using loop::testing::FakeModel;
+using loop::testing::FakePort;
+namespace status = loop::status;
 
 class RecordingNotifier final : public Notifier {
  public:

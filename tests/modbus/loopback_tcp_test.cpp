@@ -4,16 +4,16 @@
 #include <gtest/gtest.h>
 
 #include "loopback_fixture.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 #include "volcomp/modbus/error.hpp"
 #include "wait_until.hpp"
 
 namespace volcomp::test {
 namespace {
 
-using daemon::AxisSample;
-using daemon::isLinkError;
-using daemon::OffsetCommand;
+using loop::AxisSample;
+using loop::isLinkError;
+using loop::OffsetCommand;
 using modbus::Errc;
 
 constexpr sim::Vec3 kAt{123.4567, -45.5, -300.25};
@@ -74,7 +74,7 @@ TEST(ModbusTcpLoopback, WritesOffsetsStatusAndHeartbeatInOneTransaction) {
 
 TEST(ModbusTcpLoopback, ActualSemanticsIncludeTheAppliedOffset) {
   sim::MachineOptions opt;
-  opt.semantics = config::PositionSemantics::Actual;
+  opt.semantics = loop::PositionSemantics::Actual;
   auto lb = Loopback::tcp(kAt, opt);
   ASSERT_FALSE(lb->port->connect());
   OffsetCommand c;

@@ -10,7 +10,7 @@ CanSimNode::CanSimNode(asio::io_context& io, CanLayout layout, Callbacks callbac
       period_(broadcastPeriod),
       broadcast_(layout.trigger == config::CanTrigger::Broadcast) {
   node_.setSyncHandler([this] { publish(); });
-  node_.setCommandHandler([this](const daemon::OffsetCommand& command) {
+  node_.setCommandHandler([this](const loop::OffsetCommand& command) {
     callbacks_.onWrite(callbacks_.nowS(), command);
   });
 }
@@ -32,7 +32,7 @@ void CanSimNode::stop() {
 }
 
 void CanSimNode::publish() {
-  const daemon::AxisSample sample = callbacks_.inputs(callbacks_.nowS());
+  const loop::AxisSample sample = callbacks_.inputs(callbacks_.nowS());
   const std::uint64_t sequence = sample.hasSequence ? sample.sequence : counter_++;
   if (node_.publish(sample, sequence))
     ++publishErrors_;

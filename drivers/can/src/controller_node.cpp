@@ -44,7 +44,7 @@ void CanControllerNode::close() noexcept {
   channel_.close();
 }
 
-std::error_code CanControllerNode::publish(const daemon::AxisSample& sample,
+std::error_code CanControllerNode::publish(const loop::AxisSample& sample,
                                            std::uint64_t sequence) noexcept {
   for (std::size_t i = 0; i < txFrames_.size(); ++i) {
     Frame& frame = txFrames_[i];
@@ -101,7 +101,7 @@ void CanControllerNode::onFrame(const Frame& frame) noexcept {
       ++malformed_;
       return;
     }
-    daemon::OffsetCommand decoded = pending_;
+    loop::OffsetCommand decoded = pending_;
     for (const FieldSignal& s : layout.signals) {
       std::error_code ec;
       std::uint64_t raw = 0;

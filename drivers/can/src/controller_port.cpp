@@ -106,7 +106,7 @@ std::error_code CanControllerPort::waitForSet(Clock::time_point deadline) noexce
   return stats_.completeSets != before ? std::error_code{} : std::error_code{Errc::NoResponse};
 }
 
-std::error_code CanControllerPort::read(daemon::AxisSample& out) noexcept {
+std::error_code CanControllerPort::read(loop::AxisSample& out) noexcept {
   if (!channel_.isOpen()) return std::make_error_code(std::errc::not_connected);
   pump();
   if (linkLost_) return linkDown();
@@ -144,7 +144,7 @@ std::error_code CanControllerPort::read(daemon::AxisSample& out) noexcept {
   return {};
 }
 
-std::error_code CanControllerPort::write(const daemon::OffsetCommand& command) noexcept {
+std::error_code CanControllerPort::write(const loop::OffsetCommand& command) noexcept {
   if (!channel_.isOpen()) return std::make_error_code(std::errc::not_connected);
   pump();
   if (linkLost_) return linkDown();

@@ -159,7 +159,7 @@ std::error_code ModbusControllerPort::readTables() noexcept {
   return {};
 }
 
-std::error_code ModbusControllerPort::read(daemon::AxisSample& out) noexcept {
+std::error_code ModbusControllerPort::read(loop::AxisSample& out) noexcept {
   if (!connected_) return std::make_error_code(std::errc::not_connected);
   if (prefetched_) {
     prefetched_ = false;
@@ -175,7 +175,7 @@ std::error_code ModbusControllerPort::read(daemon::AxisSample& out) noexcept {
       out);
 }
 
-std::error_code ModbusControllerPort::write(const daemon::OffsetCommand& command) noexcept {
+std::error_code ModbusControllerPort::write(const loop::OffsetCommand& command) noexcept {
   if (!connected_) return std::make_error_code(std::errc::not_connected);
   prefetched_ = false;
   if (auto ec = encodeOutputs(
@@ -200,9 +200,9 @@ std::error_code ModbusControllerPort::write(const daemon::OffsetCommand& command
   return {};
 }
 
-std::unique_ptr<daemon::ControllerPort> makeControllerPort(const nlohmann::json& transportSection,
-                                                           const std::string& file,
-                                                           const std::string& keyPath) {
+std::unique_ptr<loop::ControllerPort> makeControllerPort(const nlohmann::json& transportSection,
+                                                         const std::string& file,
+                                                         const std::string& keyPath) {
   config::ModbusConfig parsed = config::parseModbusConfig(transportSection, file, keyPath);
   try {
     return std::make_unique<ModbusControllerPort>(std::move(parsed));

@@ -73,7 +73,7 @@ RegisterPlan planRegisters(const config::ModbusRegisterMap& m) noexcept {
 }
 
 std::error_code decodeInputs(const config::ModbusRegisterMap& m, ConstTableView holding,
-                             ConstTableView input, daemon::AxisSample& out) noexcept {
+                             ConstTableView input, loop::AxisSample& out) noexcept {
   std::error_code result;
   for (std::size_t i = 0; i < 3; ++i) {
     const auto& p = m.position[i];
@@ -103,7 +103,7 @@ std::error_code decodeInputs(const config::ModbusRegisterMap& m, ConstTableView 
 }
 
 std::error_code encodeOutputs(const config::ModbusRegisterMap& m,
-                              const daemon::OffsetCommand& command, TableView holding) noexcept {
+                              const loop::OffsetCommand& command, TableView holding) noexcept {
   for (std::size_t i = 0; i < 3; ++i) {
     const auto& o = m.offset[i];
     const auto regs = at(holding, o.address, config::registerWidth(o.format.type));
@@ -114,7 +114,7 @@ std::error_code encodeOutputs(const config::ModbusRegisterMap& m,
   return {};
 }
 
-std::error_code encodeInputs(const config::ModbusRegisterMap& m, const daemon::AxisSample& sample,
+std::error_code encodeInputs(const config::ModbusRegisterMap& m, const loop::AxisSample& sample,
                              TableView holding, TableView input) noexcept {
   std::error_code result;
   auto put = [&](const config::ValueRegister& r, double mm) {
@@ -139,7 +139,7 @@ std::error_code encodeInputs(const config::ModbusRegisterMap& m, const daemon::A
 }
 
 std::error_code decodeOutputs(const config::ModbusRegisterMap& m, ConstTableView holding,
-                              daemon::OffsetCommand& out) noexcept {
+                              loop::OffsetCommand& out) noexcept {
   std::error_code result;
   for (std::size_t i = 0; i < 3; ++i) {
     const auto& o = m.offset[i];

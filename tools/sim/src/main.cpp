@@ -153,8 +153,8 @@ int main(int argc, char** argv) {
     cfg = sim::loadSimConfig(configFile);
     if (!modelOverride.empty()) cfg.modelPath = modelOverride;
     if (!semanticsOverride.empty()) {
-      cfg.machine.semantics = semanticsOverride == "actual" ? config::PositionSemantics::Actual
-                                                            : config::PositionSemantics::Commanded;
+      cfg.machine.semantics = semanticsOverride == "actual" ? loop::PositionSemantics::Actual
+                                                            : loop::PositionSemantics::Commanded;
     }
     sim::Path path = sim::makePath(cfg.path);
     sim::ErrorFunction trueError = [](const sim::Vec3&, const sim::MotionDirections&) {

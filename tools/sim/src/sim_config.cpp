@@ -55,8 +55,8 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
   c.file = file;
   if (auto m = root.find("model")) c.modelPath = resolve(file, m->string());
   c.machine.semantics = root.at("position_semantics").oneOf({"commanded", "actual"}) == "actual"
-                            ? config::PositionSemantics::Actual
-                            : config::PositionSemantics::Commanded;
+                            ? loop::PositionSemantics::Actual
+                            : loop::PositionSemantics::Commanded;
   c.path = parsePath(root.at("path"), file);
   if (auto l = root.find("limits")) {
     l->allowOnly({"max_offset_mm", "max_rate_mm_s", "rate_tolerance_ms", "cycle_ms"});

@@ -30,21 +30,10 @@
 #include <nlohmann/json.hpp>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/loop/limiter.hpp"
+#include "volcomp/loop/loop_settings.hpp"
 
 namespace volcomp::config {
-
-enum class PositionSemantics {
-  /// The position registers hold the programmed position: evaluate the model at it.
-  Commanded,
-  /// The position registers include the applied offset: subtract it before evaluating.
-  Actual,
-};
-
-struct LimiterConfig {
-  double maxOffsetMm = 0.0;
-  double maxRateMmS = 0.0;
-  double maxAccelMmS2 = 0.0;  ///< 0 = no acceleration limit
-};
 
 struct ReconnectConfig {
   double initialMs = 100.0;
@@ -54,8 +43,8 @@ struct ReconnectConfig {
 struct DaemonConfig {
   std::string file;  ///< the configuration file (messages, relative paths)
   double cyclePeriodMs = 10.0;
-  PositionSemantics positionSemantics = PositionSemantics::Commanded;
-  LimiterConfig limiter;
+  loop::PositionSemantics positionSemantics = loop::PositionSemantics::Commanded;
+  loop::LimiterSettings limiter;
   double staleTimeoutMs = 500.0;
   bool frozenPositionsAreStale = false;
   double travelMarginMm = 1.0;

@@ -11,13 +11,13 @@
 #include <nlohmann/json.hpp>
 
 #include "volcomp/config/daemon_config.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 
 namespace volcomp::daemon {
 
 /// Builds an unconnected port from the "transport" section; key paths in its ConfigErrors start
 /// at "transport". Throws config::ConfigError.
-using PortFactory = std::function<std::unique_ptr<ControllerPort>(
+using PortFactory = std::function<std::unique_ptr<loop::ControllerPort>(
     const nlohmann::json& transportSection, const std::string& file)>;
 
 class TransportRegistry {
@@ -27,7 +27,7 @@ class TransportRegistry {
   std::vector<std::string> types() const;
   /// The port for config.transportType. Throws ConfigError at "transport.type" when no driver for
   /// that type was built into this executable, or whatever the driver's parser throws.
-  std::unique_ptr<ControllerPort> create(const config::DaemonConfig& config) const;
+  std::unique_ptr<loop::ControllerPort> create(const config::DaemonConfig& config) const;
 
  private:
   std::map<std::string, PortFactory> factories_;

@@ -11,7 +11,7 @@
 ///   asio::io_context io;
 ///   can::CanSimNode node(io, can::loadCanLayout(transportSection, file, "transport"),
 ///       {.inputs = [&](double t) { return machine.inputs(t); },
-///        .onWrite = [&](double t, const daemon::OffsetCommand& c) { machine.onWrite(t, c); },
+///        .onWrite = [&](double t, const loop::OffsetCommand& c) { machine.onWrite(t, c); },
 ///        .nowS = [&] { return secondsSinceStart(); }},
 ///       std::chrono::milliseconds(1));
 ///   node.start();  // then run io (the sim's thread); stop() before the io_context goes away
@@ -31,8 +31,8 @@ namespace volcomp::can {
 class CanSimNode {
  public:
   struct Callbacks {
-    std::function<daemon::AxisSample(double tS)> inputs;
-    std::function<void(double tS, const daemon::OffsetCommand&)> onWrite;
+    std::function<loop::AxisSample(double tS)> inputs;
+    std::function<void(double tS, const loop::OffsetCommand&)> onWrite;
     std::function<double()> nowS;
   };
 

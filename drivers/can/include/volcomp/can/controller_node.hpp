@@ -12,7 +12,7 @@
 
 #include "volcomp/can/channel.hpp"
 #include "volcomp/can/layout.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 
 namespace volcomp::can {
 
@@ -27,17 +27,17 @@ class CanControllerNode final : private FrameReceiver {
 
   /// Sends every input frame for `sample`, each carrying `sequence` (modulo 2^length) in its
   /// sequence counter. Positions that do not fit their signals fail before anything is sent.
-  std::error_code publish(const daemon::AxisSample& sample, std::uint64_t sequence) noexcept;
+  std::error_code publish(const loop::AxisSample& sample, std::uint64_t sequence) noexcept;
 
   /// Called for every SYNC frame received (sync trigger); usually calls publish().
   void setSyncHandler(std::function<void()> handler) { onSync_ = std::move(handler); }
   /// Called with every complete command (each output frame received once since the last one).
-  void setCommandHandler(std::function<void(const daemon::OffsetCommand&)> handler) {
+  void setCommandHandler(std::function<void(const loop::OffsetCommand&)> handler) {
     onCommand_ = std::move(handler);
   }
 
   std::uint64_t commandsReceived() const noexcept { return commands_; }
-  const daemon::OffsetCommand& lastCommand() const noexcept { return last_; }
+  const loop::OffsetCommand& lastCommand() const noexcept { return last_; }
   std::uint64_t malformedFrames() const noexcept { return malformed_; }
   std::uint64_t syncsReceived() const noexcept { return syncs_; }
   /// The receive failed (interface down): reopen with open().
@@ -54,10 +54,10 @@ class CanControllerNode final : private FrameReceiver {
   std::vector<can_filter> filters_;
   std::vector<Frame> txFrames_;
   std::vector<bool> fresh_;
-  daemon::OffsetCommand pending_;
-  daemon::OffsetCommand last_;
+  loop::OffsetCommand pending_;
+  loop::OffsetCommand last_;
   std::function<void()> onSync_;
-  std::function<void(const daemon::OffsetCommand&)> onCommand_;
+  std::function<void(const loop::OffsetCommand&)> onCommand_;
   std::uint64_t commands_ = 0;
   std::uint64_t malformed_ = 0;
   std::uint64_t syncs_ = 0;

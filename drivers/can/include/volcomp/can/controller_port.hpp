@@ -1,5 +1,5 @@
 #pragma once
-/// The daemon's CAN transport: a SocketCAN driver implementing volcomp::daemon::ControllerPort.
+/// The daemon's CAN transport: a SocketCAN driver implementing volcomp::loop::ControllerPort.
 ///
 /// It owns an Asio io_context with one CAN socket and no thread: read() and write() run the
 /// io_context just long enough to drain the socket (and, with the sync trigger, to wait for the
@@ -33,7 +33,7 @@
 
 #include "volcomp/can/channel.hpp"
 #include "volcomp/can/layout.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 
 namespace volcomp::can {
 
@@ -54,7 +54,7 @@ struct CanStats {
   std::uint64_t linkErrors = 0;       ///< link lost: interface down / gone, socket failed
 };
 
-class CanControllerPort final : public daemon::ControllerPort, private FrameReceiver {
+class CanControllerPort final : public loop::ControllerPort, private FrameReceiver {
  public:
   explicit CanControllerPort(CanLayout layout);
   ~CanControllerPort() override;
@@ -62,8 +62,8 @@ class CanControllerPort final : public daemon::ControllerPort, private FrameRece
   std::error_code connect() noexcept override;
   void disconnect() noexcept override;
   bool connected() const noexcept override;
-  std::error_code read(daemon::AxisSample& out) noexcept override;
-  std::error_code write(const daemon::OffsetCommand& command) noexcept override;
+  std::error_code read(loop::AxisSample& out) noexcept override;
+  std::error_code write(const loop::OffsetCommand& command) noexcept override;
 
   const CanStats& stats() const noexcept { return stats_; }
   BusState busState() const noexcept { return busState_; }
@@ -96,7 +96,7 @@ class CanControllerPort final : public daemon::ControllerPort, private FrameRece
   std::vector<InputSlot> slots_;
   std::array<std::size_t, kFieldCount> fieldSlot_{};
   std::vector<Frame> txFrames_;
-  daemon::AxisSample latest_;
+  loop::AxisSample latest_;
   bool haveSet_ = false;
   std::uint64_t setsAtSync_ = 0;
   bool linkLost_ = false;

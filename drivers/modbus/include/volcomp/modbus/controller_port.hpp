@@ -9,7 +9,7 @@
 ///
 /// Errors: Modbus exception replies and protocol failures in volcomp::modbus::modbusCategory()
 /// (the link is kept; the input buffer is flushed after a protocol failure); link loss as the
-/// generic std::errc values volcomp::daemon::isLinkError recognises (the connection is closed and
+/// generic std::errc values volcomp::loop::isLinkError recognises (the connection is closed and
 /// connect() must be called again). `link_loss_timeouts` consecutive response timeouts also count
 /// as link loss (a stalled TCP peer, a pulled RS-485 cable): the port closes and reports
 /// std::errc::not_connected.
@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "volcomp/config/modbus_config.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 #include "volcomp/modbus/register_plan.hpp"
 
 struct _modbus;  // libmodbus' modbus_t
@@ -39,7 +39,7 @@ struct PortStatistics {
   std::uint64_t linkLosses = 0;
 };
 
-class ModbusControllerPort final : public daemon::ControllerPort {
+class ModbusControllerPort final : public loop::ControllerPort {
  public:
   /// Creates the libmodbus context (no I/O yet). Throws std::system_error when libmodbus rejects
   /// the parameters.
@@ -51,8 +51,8 @@ class ModbusControllerPort final : public daemon::ControllerPort {
   std::error_code connect() noexcept override;
   void disconnect() noexcept override;
   bool connected() const noexcept override { return connected_; }
-  std::error_code read(daemon::AxisSample& out) noexcept override;
-  std::error_code write(const daemon::OffsetCommand& command) noexcept override;
+  std::error_code read(loop::AxisSample& out) noexcept override;
+  std::error_code write(const loop::OffsetCommand& command) noexcept override;
 
   const config::ModbusConfig& config() const noexcept { return config_; }
   const RegisterPlan& plan() const noexcept { return plan_; }
@@ -82,8 +82,8 @@ class ModbusControllerPort final : public daemon::ControllerPort {
 /// Factory for volcompd: parses the transport section (type "modbus-tcp" or "modbus-rtu"; key
 /// paths in errors start at `keyPath`) and returns an unconnected port. Throws ConfigError (also
 /// when libmodbus refuses the validated settings).
-std::unique_ptr<daemon::ControllerPort> makeControllerPort(
-    const nlohmann::json& transportSection, const std::string& file,
-    const std::string& keyPath = "transport");
+std::unique_ptr<loop::ControllerPort> makeControllerPort(const nlohmann::json& transportSection,
+                                                         const std::string& file,
+                                                         const std::string& keyPath = "transport");
 
 }  // namespace volcomp::modbus

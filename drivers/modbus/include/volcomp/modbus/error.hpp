@@ -2,7 +2,7 @@
 /// std::error_code category for Modbus: the exception codes a server answers with (values 1..11
 /// as on the wire) and the protocol failures libmodbus reports (timeouts, CRC, malformed
 /// responses), plus codec failures. Link loss is reported with generic std::errc values (see
-/// volcomp/daemon/ports.hpp), never with this category.
+/// volcomp/loop/ports.hpp), never with this category.
 
 #include <system_error>
 

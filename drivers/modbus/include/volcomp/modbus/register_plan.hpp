@@ -10,7 +10,7 @@
 #include <system_error>
 
 #include "volcomp/config/modbus_config.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 
 namespace volcomp::modbus {
 
@@ -47,21 +47,21 @@ struct ConstTableView {
 /// offsets when mapped). `holding` and `input` must cover the plan's read blocks.
 /// Errors: Errc::value_not_finite for a NaN/infinite float (out is then partly written).
 std::error_code decodeInputs(const config::ModbusRegisterMap& map, ConstTableView holding,
-                             ConstTableView input, daemon::AxisSample& out) noexcept;
+                             ConstTableView input, loop::AxisSample& out) noexcept;
 
 /// Encodes `command` into the output block (`holding` must cover the plan's write block).
 /// Errors: Errc::value_not_finite, Errc::value_out_of_range (the view may be partly written;
 /// the caller must not send it).
 std::error_code encodeOutputs(const config::ModbusRegisterMap& map,
-                              const daemon::OffsetCommand& command, TableView holding) noexcept;
+                              const loop::OffsetCommand& command, TableView holding) noexcept;
 
 /// Simulator side: encodes the inputs (bits of enable/homed are set or cleared, other bits of
 /// those registers kept). Values that do not fit saturate; the result says so.
-std::error_code encodeInputs(const config::ModbusRegisterMap& map, const daemon::AxisSample& sample,
+std::error_code encodeInputs(const config::ModbusRegisterMap& map, const loop::AxisSample& sample,
                              TableView holding, TableView input) noexcept;
 
 /// Simulator side: decodes the outputs from the holding table.
 std::error_code decodeOutputs(const config::ModbusRegisterMap& map, ConstTableView holding,
-                              daemon::OffsetCommand& out) noexcept;
+                              loop::OffsetCommand& out) noexcept;
 
 }  // namespace volcomp::modbus

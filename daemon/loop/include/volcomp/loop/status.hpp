@@ -19,7 +19,7 @@
 #include <cstdint>
 #include <string_view>
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 
 namespace status {
 inline constexpr std::uint16_t kActive = 1u << 0;
@@ -65,4 +65,4 @@ constexpr FaultCode faultCodeOf(std::uint16_t word) noexcept {
   return static_cast<FaultCode>((word & status::kFaultCodeMask) >> status::kFaultCodeShift);
 }
 
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

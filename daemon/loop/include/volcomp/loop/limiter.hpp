@@ -13,7 +13,7 @@
 
 #include <array>
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 
 struct LimiterSettings {
   double maxOffsetMm = 0.5;   ///< clamp band, mm (> 0)
@@ -47,4 +47,4 @@ void resetLimiter(LimiterState& state, const std::array<double, 3>& appliedMm) n
 /// True when the output of every axis is exactly zero.
 bool limiterAtZero(const LimiterState& state) noexcept;
 
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

@@ -1,6 +1,6 @@
-#include "volcomp/daemon/status.hpp"
+#include "volcomp/loop/status.hpp"
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 
 std::string_view faultName(FaultCode code) noexcept {
   switch (code) {
@@ -22,4 +22,4 @@ std::string_view faultName(FaultCode code) noexcept {
   return "unknown";
 }
 
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

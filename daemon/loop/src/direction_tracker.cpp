@@ -1,6 +1,6 @@
-#include "volcomp/daemon/direction_tracker.hpp"
+#include "volcomp/loop/direction_tracker.hpp"
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 
 const model::Directions& DirectionTracker::update(
     const std::array<double, 3>& positionMm) noexcept {
@@ -49,4 +49,4 @@ void DirectionTracker::reset() noexcept {
   directions_ = {model::Direction::Unknown, model::Direction::Unknown, model::Direction::Unknown};
 }
 
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

@@ -7,7 +7,7 @@
 
 #include "loop_fixture.hpp"
 
-namespace volcomp::daemon::testing {
+namespace volcomp::loop::testing {
 namespace {
 
 constexpr double kStep = 0.01;  // max rate 1 mm/s * 10 ms
@@ -476,7 +476,7 @@ TEST_F(LoopTest, StopGivesUpAfterABoundedTimeWhenWritesKeepFailing) {
 
 TEST_F(LoopTest, ActualSemanticsSubtractsTheAppliedOffsetSoItDoesNotFeedBack) {
   port.semanticsActual = true;  // controller reports q + applied offset
-  settings.semantics = config::PositionSemantics::Actual;
+  settings.semantics = loop::PositionSemantics::Actual;
   make();
   runUntilSettled();
   ASSERT_DOUBLE_EQ(port.applied[2], 0.03);
@@ -488,7 +488,7 @@ TEST_F(LoopTest, ActualSemanticsSubtractsTheAppliedOffsetSoItDoesNotFeedBack) {
 
 TEST_F(LoopTest, ActualSemanticsWithoutReadBackSubtractsTheLastWrittenOffset) {
   port.semanticsActual = true;
-  settings.semantics = config::PositionSemantics::Actual;
+  settings.semantics = loop::PositionSemantics::Actual;
   settings.offsetReadback = false;
   settings.plcZeroAfter = std::chrono::milliseconds(10);
   make();
@@ -553,4 +553,4 @@ TEST_F(LoopTest, NewSettingsTakeEffectButNotThePeriod) {
 }
 
 }  // namespace
-}  // namespace volcomp::daemon::testing
+}  // namespace volcomp::loop::testing

@@ -11,9 +11,10 @@
 
 #include "allocation_counter.hpp"
 #include "loop_fixture.hpp"
-#include "volcomp/daemon/compensation_model.hpp"
+#include "volcomp/config/model_file.hpp"
+#include "volcomp/loop/compensation_model.hpp"
 
-namespace volcomp::daemon::testing {
+namespace volcomp::loop::testing {
 namespace {
 
 using Counting = volcomp::testutil::AllocationScope;
@@ -52,7 +53,9 @@ TEST_F(LoopTest, NoAllocationPerCycleInAnyState) {
 
 TEST(NoAllocation, RealModelOffsetSolveDoesNotAllocate) {
   const std::string file = std::string(VOLCOMP_EXAMPLES_DIR) + "/vmc-xyfz-21.json";
-  std::shared_ptr<CompensationModel> model = loadCompensationModel(file);
+  config::ModelDocument document = config::loadModelFile(file);
+  auto model = std::make_shared<MachineModelCompensation>(
+      model::MachineModel(std::get<model::MachineModelSpec>(std::move(document.spec))), "vmc");
   FakeClock clock;
   FakePort port;
   port.sample.positionMm = {400.0, 250.0, -200.0};
@@ -72,4 +75,4 @@ TEST(NoAllocation, RealModelOffsetSolveDoesNotAllocate) {
 }
 
 }  // namespace
-}  // namespace volcomp::daemon::testing
+}  // namespace volcomp::loop::testing

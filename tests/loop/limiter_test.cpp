@@ -1,4 +1,4 @@
-#include "volcomp/daemon/limiter.hpp"
+#include "volcomp/loop/limiter.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <limits>
 #include <random>
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 namespace {
 
 constexpr double kDt = 0.01;  // 10 ms cycle
@@ -146,4 +146,4 @@ TEST(Limiter, RandomTargetsNeverBreakTheLimits) {
 }
 
 }  // namespace
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

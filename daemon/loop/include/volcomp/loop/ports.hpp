@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <system_error>
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 
 /// One consistent read of the controller's inputs.
 struct AxisSample {
@@ -82,4 +82,4 @@ inline bool isLinkError(std::error_code ec) noexcept {
          ec == std::errc::connection_refused || ec == std::errc::network_unreachable;
 }
 
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

@@ -13,7 +13,7 @@
 #include "volcomp/model/machine_model.hpp"
 #include "volcomp/model/types.hpp"
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 
 /// Result of one offset evaluation.
 struct ModelOffset {
@@ -51,9 +51,4 @@ class MachineModelCompensation final : public CompensationModel {
   std::string name_;
 };
 
-/// Loads and validates a model file for the daemon (3-axis machine models only; a D-H chain is
-/// rejected). Throws config::ConfigError (file, key path, what was expected) or
-/// model::ModelError. Never called on the hot path.
-std::shared_ptr<CompensationModel> loadCompensationModel(const std::string& path);
-
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

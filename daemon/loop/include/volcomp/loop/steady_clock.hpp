@@ -1,13 +1,13 @@
 #pragma once
 /// The production Clock: std::chrono::steady_clock.
 
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 
 class SteadyClock final : public Clock {
  public:
   time_point now() const noexcept override { return std::chrono::steady_clock::now(); }
 };
 
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

@@ -10,7 +10,7 @@
 
 #include "volcomp/model/types.hpp"
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 
 class DirectionTracker {
  public:
@@ -31,4 +31,4 @@ class DirectionTracker {
                                 model::Direction::Unknown};
 };
 
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

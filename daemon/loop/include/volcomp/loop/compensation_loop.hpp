@@ -28,14 +28,14 @@
 #include <string_view>
 #include <system_error>
 
-#include "volcomp/daemon/compensation_model.hpp"
-#include "volcomp/daemon/direction_tracker.hpp"
-#include "volcomp/daemon/limiter.hpp"
-#include "volcomp/daemon/loop_settings.hpp"
-#include "volcomp/daemon/ports.hpp"
-#include "volcomp/daemon/status.hpp"
+#include "volcomp/loop/compensation_model.hpp"
+#include "volcomp/loop/direction_tracker.hpp"
+#include "volcomp/loop/limiter.hpp"
+#include "volcomp/loop/loop_settings.hpp"
+#include "volcomp/loop/ports.hpp"
+#include "volcomp/loop/status.hpp"
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 
 /// Rounding of a read-back register: one count of a 0.1 um register (mm). After a silence the
 /// loop follows a read-back that departs from its own offsets by more than one limiter step plus
@@ -155,4 +155,4 @@ class CompensationLoop {
   std::array<double, 3> lastPositionMm_{};
 };
 
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

@@ -1,9 +1,9 @@
-#include "volcomp/daemon/limiter.hpp"
+#include "volcomp/loop/limiter.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 namespace {
 
 struct AxisResult {
@@ -82,4 +82,4 @@ bool limiterAtZero(const LimiterState& state) noexcept {
   return true;
 }
 
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

@@ -10,10 +10,10 @@
 #include <system_error>
 #include <vector>
 
-#include "volcomp/daemon/compensation_model.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/compensation_model.hpp"
+#include "volcomp/loop/ports.hpp"
 
-namespace volcomp::daemon::testing {
+namespace volcomp::loop::testing {
 
 class FakeClock final : public Clock {
  public:
@@ -134,4 +134,4 @@ class FakeModel final : public CompensationModel {
   std::string name_ = "fake";
 };
 
-}  // namespace volcomp::daemon::testing
+}  // namespace volcomp::loop::testing

@@ -1,8 +1,8 @@
-#include "volcomp/daemon/direction_tracker.hpp"
+#include "volcomp/loop/direction_tracker.hpp"
 
 #include <gtest/gtest.h>
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 namespace {
 
 using model::Direction;
@@ -49,4 +49,4 @@ TEST(DirectionTracker, ResetForgetsTheDirections) {
 }
 
 }  // namespace
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

@@ -1,18 +1,27 @@
 #pragma once
-/// The loop's settings in the units it computes with (durations, mm), derived from the daemon
-/// configuration. See config/daemon_config.hpp for the meaning of each key.
+/// The loop's settings in the units it computes with (durations, mm). The daemon builds them from
+/// its configuration file (config/daemon_config.hpp documents each key); tests set them directly.
 
 #include <chrono>
+#include <cstdint>
 
-#include "volcomp/config/daemon_config.hpp"
-#include "volcomp/daemon/limiter.hpp"
+#include "volcomp/loop/limiter.hpp"
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
+
+/// What the controller's position registers hold, which decides where the model is evaluated.
+enum class PositionSemantics : std::uint8_t {
+  /// The programmed (commanded) position: evaluate the model at it.
+  Commanded,
+  /// The actual position, which already includes the applied offset: subtract the offset first,
+  /// or the offset would feed back on itself.
+  Actual,
+};
 
 struct LoopSettings {
   /// Nominal cycle period; also the dt of the limiter (so the rate limit holds per cycle).
   std::chrono::nanoseconds period = std::chrono::milliseconds(10);
-  config::PositionSemantics semantics = config::PositionSemantics::Commanded;
+  PositionSemantics semantics = PositionSemantics::Commanded;
   LimiterSettings limiter;
   std::chrono::nanoseconds staleTimeout = std::chrono::milliseconds(500);
   bool frozenPositionsAreStale = false;
@@ -28,6 +37,4 @@ struct LoopSettings {
   std::chrono::nanoseconds noticeHold = std::chrono::seconds(1);
 };
 
-LoopSettings loopSettingsFrom(const config::DaemonConfig& config) noexcept;
-
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

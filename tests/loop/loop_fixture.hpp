@@ -7,9 +7,9 @@
 #include <memory>
 
 #include "fakes.hpp"
-#include "volcomp/daemon/compensation_loop.hpp"
+#include "volcomp/loop/compensation_loop.hpp"
 
-namespace volcomp::daemon::testing {
+namespace volcomp::loop::testing {
 
 inline LoopSettings testSettings() {
   LoopSettings s;
@@ -46,4 +46,4 @@ class LoopTest : public ::testing::Test {
   std::unique_ptr<CompensationLoop> loop;
 };
 
-}  // namespace volcomp::daemon::testing
+}  // namespace volcomp::loop::testing

@@ -1,10 +1,10 @@
-#include "volcomp/daemon/compensation_loop.hpp"
+#include "volcomp/loop/compensation_loop.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
-namespace volcomp::daemon {
+namespace volcomp::loop {
 namespace {
 
 bool allFinite(const std::array<double, 3>& v) noexcept {
@@ -180,7 +180,7 @@ FaultCode CompensationLoop::checkInputs(time_point now, std::array<double, 3>& q
   if (now - lastInputChange_ > settings_.staleTimeout) return FaultCode::StaleInput;
 
   qMm = sample_.positionMm;
-  if (settings_.semantics == config::PositionSemantics::Actual) {
+  if (settings_.semantics == PositionSemantics::Actual) {
     // The register already holds q + o: evaluate at q, or the offset would feed back on itself.
     const std::array<double, 3>& applied =
         sample_.hasAppliedOffsets ? sample_.appliedOffsetMm : command_.offsetMm;
@@ -372,4 +372,4 @@ CycleReport CompensationLoop::step() noexcept {
   return report;
 }
 
-}  // namespace volcomp::daemon
+}  // namespace volcomp::loop

@@ -1,5 +1,6 @@
-// Link-error classification (what makes the loop reconnect rather than fault) and the transport
-// registry volcompd picks its driver from.
+// The transport registry volcompd picks its driver from.
+#include "volcomp/daemon/transport_registry.hpp"
+
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -7,44 +8,12 @@
 
 #include "fakes.hpp"
 #include "volcomp/config/config_error.hpp"
-#include "volcomp/daemon/ports.hpp"
-#include "volcomp/daemon/transport_registry.hpp"
 
-namespace volcomp::daemon::testing {
+namespace volcomp::daemon {
 namespace {
 
-// A driver's own category that maps its "peer gone" code onto the generic condition.
-class DriverCategory final : public std::error_category {
- public:
-  const char* name() const noexcept override { return "driver"; }
-  std::string message(int) const override { return "driver error"; }
-  std::error_condition default_error_condition(int code) const noexcept override {
-    return code == 1 ? std::make_error_condition(std::errc::connection_reset)
-                     : std::error_condition(code, *this);
-  }
-};
-const DriverCategory driverCategory;
-
-TEST(IsLinkError, TransportDownCodesAreLinkErrors) {
-  for (std::errc e :
-       {std::errc::not_connected, std::errc::connection_reset, std::errc::broken_pipe,
-        std::errc::network_down, std::errc::host_unreachable, std::errc::connection_aborted,
-        std::errc::connection_refused, std::errc::network_unreachable}) {
-    EXPECT_TRUE(isLinkError(std::make_error_code(e))) << std::make_error_code(e).message();
-    EXPECT_TRUE(isLinkError(std::error_code(static_cast<int>(e), std::system_category())));
-  }
-}
-
-TEST(IsLinkError, FailedTransactionsOnALiveLinkAreNot) {
-  EXPECT_FALSE(isLinkError({}));
-  EXPECT_FALSE(isLinkError(std::make_error_code(std::errc::timed_out)));
-  EXPECT_FALSE(isLinkError(std::make_error_code(std::errc::bad_message)));
-  EXPECT_FALSE(isLinkError(std::error_code(2, driverCategory)));
-}
-
-TEST(IsLinkError, DriverCategoriesTakePartThroughTheirConditions) {
-  EXPECT_TRUE(isLinkError(std::error_code(1, driverCategory)));
-}
+using loop::ControllerPort;
+using loop::testing::FakePort;
 
 config::DaemonConfig configWithTransport(const std::string& type) {
   config::DaemonConfig c;
@@ -95,4 +64,4 @@ TEST(TransportRegistry, DriverParseErrorsPassThrough) {
 }
 
 }  // namespace
-}  // namespace volcomp::daemon::testing
+}  // namespace volcomp::daemon

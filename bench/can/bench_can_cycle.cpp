@@ -38,13 +38,15 @@
 #include <asio/post.hpp>
 #include <nlohmann/json.hpp>
 
-#include "volcomp/can/can_sim_node.hpp"
 #include "volcomp/can/controller_port.hpp"
 #include "volcomp/can/layout.hpp"
 #include "volcomp/can/signal.hpp"
+#include "volcomp/config/can_config.hpp"
+#include "volcomp/daemon/configuration.hpp"
 #include "volcomp/loop/compensation_loop.hpp"
 #include "volcomp/loop/compensation_model.hpp"
 #include "volcomp/loop/steady_clock.hpp"
+#include "volcomp/sim/can_sim_node.hpp"
 
 namespace {
 
@@ -74,7 +76,7 @@ volcomp::can::CanLayout exampleLayout(bool sync) {
     transport["sync"] = {{"id", "0x080"}};
     transport["timeouts"]["response_ms"] = 20;
   }
-  return volcomp::can::loadCanLayout(transport, file, "transport");
+  return volcomp::config::loadCanLayout(transport, file, "transport");
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -145,7 +147,7 @@ class NodeThread {
 
   asio::io_context io_;
   asio::executor_work_guard<asio::io_context::executor_type> work_;
-  volcomp::can::CanSimNode node_;
+  volcomp::sim::CanSimNode node_;
   std::thread thread_;
   double angle_ = 0.0;
   std::uint16_t sequence_ = 0;

@@ -23,7 +23,6 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "volcomp/config/modbus_config.hpp"
 #include "volcomp/daemon/daemon.hpp"
 #include "volcomp/loop/compensation_loop.hpp"
 #include "volcomp/loop/loop_settings.hpp"
@@ -103,11 +102,12 @@ int main(int argc, char** argv) {
 
   try {
     volcomp::daemon::LoadedConfiguration loaded = volcomp::daemon::loadConfiguration(configPath);
-    if (port >= 0) loaded.config.transport["port"] = port;
-    const volcomp::config::ModbusConfig modbusConfig =
-        volcomp::config::parseModbusConfig(loaded.config.transport, configPath, "transport");
-    const auto* tcp = std::get_if<volcomp::config::TcpLink>(&modbusConfig.link);
+    auto* modbusSettings = std::get_if<volcomp::modbus::ModbusSettings>(&loaded.config.transport);
+    auto* tcp =
+        modbusSettings ? std::get_if<volcomp::modbus::TcpLink>(&modbusSettings->link) : nullptr;
     if (tcp == nullptr) throw std::runtime_error("the harness measures modbus-tcp only");
+    if (port >= 0) tcp->port = static_cast<std::uint16_t>(port);
+    const volcomp::modbus::ModbusSettings& modbusConfig = *modbusSettings;
     volcomp::modbus::ModbusControllerPort controllerPort(modbusConfig);
     const volcomp::modbus::RegisterPlan plan = controllerPort.plan();
     if (plan.inputRead.count != 0 || modbusConfig.registers.fc23) {

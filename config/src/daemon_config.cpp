@@ -91,10 +91,7 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
     c.logLevel = v->oneOf({"trace", "debug", "info", "warn", "error", "critical", "off"});
   }
 
-  const JsonReader transport = root.at("transport");
-  transport.expectObject();
-  c.transportType = transport.at("type").oneOf({"modbus-tcp", "modbus-rtu", "can"});
-  c.transport = transport.json();
+  c.transport = parseTransportSettings(root.at("transport").json(), file, "transport");
   return c;
 }
 

@@ -52,7 +52,7 @@ void Daemon::start() {
   lastStatus_ = startTime_;
   spdlog::info(
       "starting: model '{}', transport {}, cycle {} ms, position semantics {}",
-      loop_.model().name(), config_.transportType, config_.cyclePeriodMs,
+      loop_.model().name(), config::transportType(config_.transport), config_.cyclePeriodMs,
       config_.positionSemantics == loop::PositionSemantics::Actual ? "actual" : "commanded");
   scheduler_.start();
 }
@@ -118,7 +118,6 @@ void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::stri
     // Keep what only a restart changes, so that later messages compare against what runs.
     next.cyclePeriodMs = config_.cyclePeriodMs;
     next.transport = config_.transport;
-    next.transportType = config_.transportType;
     next.offsetReadback = config_.offsetReadback;
     next.plcZeroAfterMs = config_.plcZeroAfterMs;
     config_ = std::move(next);

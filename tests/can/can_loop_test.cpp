@@ -12,10 +12,12 @@
 #include <asio/steady_timer.hpp>
 
 #include "vcan_util.hpp"
-#include "volcomp/can/can_sim_node.hpp"
 #include "volcomp/can/controller_port.hpp"
+#include "volcomp/config/can_config.hpp"
+#include "volcomp/daemon/configuration.hpp"
 #include "volcomp/loop/compensation_loop.hpp"
 #include "volcomp/loop/steady_clock.hpp"
+#include "volcomp/sim/can_sim_node.hpp"
 #include "volcomp/sim/machine.hpp"
 #include "volcomp/sim/sim_config.hpp"
 
@@ -102,11 +104,13 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
 
   asio::io_context simIo;
   auto work = asio::make_work_guard(simIo);
-  const CanLayout layout = loadCanLayout(loopConfig(param.sync), "can-loop.json", "transport");
-  CanSimNode node(simIo, layout,
-                  {[&](double t) { return machine.inputs(t); },
-                   [&](double t, const loop::OffsetCommand& c) { machine.onWrite(t, c); }, nowS},
-                  2ms);
+  const CanLayout layout =
+      config::loadCanLayout(loopConfig(param.sync), "can-loop.json", "transport");
+  sim::CanSimNode node(
+      simIo, layout,
+      {[&](double t) { return machine.inputs(t); },
+       [&](double t, const loop::OffsetCommand& c) { machine.onWrite(t, c); }, nowS},
+      2ms);
   ASSERT_FALSE(node.start());
   // The error statistics are sampled every 5 ms on the simulator's thread.
   asio::steady_timer sampler(simIo);

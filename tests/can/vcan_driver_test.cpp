@@ -1,6 +1,7 @@
 // The SocketCAN driver on a real (virtual) CAN interface, against a peer socket written with
 // plain SocketCAN calls. Needs a kernel with vcan (run by run_vcan_tests.sh, in QEMU if need be).
 #include "volcomp/can/controller_port.hpp"
+#include "volcomp/config/can_config.hpp"
 
 #include <linux/can/error.h>
 
@@ -45,7 +46,8 @@ class VcanDriver : public ::testing::Test {
   void TearDown() override { test::setInterfaceUp(test::interfaceName(), true); }
 
   std::unique_ptr<CanControllerPort> makePort(const nlohmann::json& config) {
-    auto port = makeCanControllerPort(config, "vcan-test.json");
+    auto port = std::make_unique<CanControllerPort>(
+        config::loadCanLayout(config, "vcan-test.json", "transport"));
     EXPECT_FALSE(port->connect());
     return port;
   }
@@ -222,7 +224,8 @@ TEST_F(VcanDriver, InterfaceDownIsALinkErrorAndRecoveryWorks) {
 TEST_F(VcanDriver, MissingInterfaceIsALinkError) {
   nlohmann::json c = test::testConfig();
   c["interface"] = "vcan-missing";
-  auto port = makeCanControllerPort(c, "vcan-test.json");
+  auto port =
+      std::make_unique<CanControllerPort>(config::loadCanLayout(c, "vcan-test.json", "transport"));
   EXPECT_EQ(port->connect(), std::errc::network_down);
   loop::AxisSample sample;
   EXPECT_EQ(port->read(sample), std::errc::not_connected);
@@ -232,7 +235,7 @@ TEST_F(VcanDriver, MissingInterfaceIsALinkError) {
 class NodeThread {
  public:
   explicit NodeThread(const nlohmann::json& config)
-      : node_(io_, loadCanLayout(config, "vcan-test.json", "transport")) {}
+      : node_(io_, config::loadCanLayout(config, "vcan-test.json", "transport")) {}
   ~NodeThread() { stop(); }
   std::error_code start() {
     const std::error_code ec = node_.open();
@@ -339,7 +342,8 @@ TEST_F(VcanDriver, CanFdFramesBothWays) {
 TEST_F(VcanDriver, ControllerNodeBroadcastRoundTrip) {
   // The node only sends here, so its io_context need not run.
   asio::io_context io;
-  CanControllerNode node(io, loadCanLayout(test::testConfig(), "vcan-test.json", "transport"));
+  CanControllerNode node(io,
+                         config::loadCanLayout(test::testConfig(), "vcan-test.json", "transport"));
   ASSERT_FALSE(node.open());
   auto port = makePort(test::testConfig());
   loop::AxisSample truth;

@@ -2,6 +2,7 @@
 // writes are decoded by `candump`, frames injected with `cansend` are understood by the driver.
 // The layout comes from a DBC with 29-bit identifiers and Motorola (big-endian) signals.
 #include "volcomp/can/controller_port.hpp"
+#include "volcomp/config/can_config.hpp"
 
 #include <unistd.h>
 #include <filesystem>
@@ -60,7 +61,8 @@ class CanUtilsInterop : public ::testing::Test {
            {{"X", {{"dbc", "OffX"}}}, {"Y", {{"dbc", "OffY"}}}, {"Z", {{"dbc", "OffZ"}}}}},
           {"status", {{"dbc", "Status"}}},
           {"heartbeat", {{"dbc", "Heartbeat"}}}}}};
-    port_ = makeCanControllerPort(config, dir_ + "/daemon.json");
+    port_ = std::make_unique<CanControllerPort>(
+        config::loadCanLayout(config, dir_ + "/daemon.json", "transport"));
     ASSERT_FALSE(port_->connect());
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }

@@ -52,8 +52,6 @@ config::DaemonConfig testConfig() {
   c.limiter.maxRateMmS = 5.0;  // 0.01 mm per 2 ms cycle
   c.staleTimeoutMs = 100.0;
   c.modelPath = "model.json";
-  c.transportType = "modbus-tcp";
-  c.transport = nlohmann::json::object();
   return c;
 }
 

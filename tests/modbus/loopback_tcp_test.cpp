@@ -204,16 +204,17 @@ TEST(ModbusTcpLoopback, NotConnectedBeforeConnect) {
   EXPECT_EQ(lb->port->write(OffsetCommand{}), std::errc::not_connected);
 }
 
-TEST(ModbusTcpLoopback, FactoryBuildsAPortFromTheTransportSection) {
+TEST(ModbusTcpLoopback, PortFromTheParsedTransportSection) {
   auto lb = Loopback::tcp(kAt);
-  auto port = modbus::makeControllerPort(tcpTransportJson(lb->server->port()), "daemon.json");
+  auto port = std::make_unique<modbus::ModbusControllerPort>(config::parseModbusSettings(
+      tcpTransportJson(lb->server->port()), "daemon.json", "transport"));
   ASSERT_FALSE(port->connect());
   AxisSample s;
   ASSERT_FALSE(port->read(s));
   EXPECT_NEAR(s.positionMm[2], kAt[2], 1e-9);
   nlohmann::json bad = tcpTransportJson(1);
   bad["registers"]["heartbeat"] = 99;
-  EXPECT_THROW(modbus::makeControllerPort(bad, "daemon.json"), config::ConfigError);
+  EXPECT_THROW(config::parseModbusSettings(bad, "daemon.json", "transport"), config::ConfigError);
 }
 
 }  // namespace

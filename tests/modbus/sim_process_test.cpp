@@ -10,6 +10,7 @@
 
 #include "subprocess.hpp"
 #include "test_maps.hpp"
+#include "volcomp/config/modbus_config.hpp"
 #include "volcomp/loop/ports.hpp"
 #include "volcomp/modbus/controller_port.hpp"
 #include "volcomp/modbus/error.hpp"
@@ -51,7 +52,7 @@ TEST(SimProcess, ServesTheExampleMachineAndReportsAtSigterm) {
   ASSERT_NE(port, 0);
 
   modbus::ModbusControllerPort driver(
-      config::parseModbusConfig(tcpTransportJson(port), "test", "transport"));
+      config::parseModbusSettings(tcpTransportJson(port), "test", "transport"));
   ASSERT_FALSE(driver.connect());
   loop::AxisSample s;
   // The scheduled event at 0 s switches enable off; stdin switches it on again.

@@ -31,7 +31,7 @@ std::uint16_t word(const std::uint8_t* p) noexcept {
 
 }  // namespace
 
-ModbusServer::ModbusServer(config::ModbusRegisterMap map, int slaveId, Machine& machine,
+ModbusServer::ModbusServer(modbus::RegisterMap map, int slaveId, Machine& machine,
                            std::function<double()> now)
     : map_(std::move(map)),
       plan_(modbus::planRegisters(map_)),

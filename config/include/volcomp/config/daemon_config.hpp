@@ -1,6 +1,7 @@
 #pragma once
 /// The daemon configuration file (volcompd --config FILE): loop timing, limiter, safety timeouts,
-/// the model to load and the transport section, which each driver parses itself.
+/// the model to load and the transport section, read into the settings of its driver
+/// (config/transport_config.hpp).
 ///
 /// JSON shape (key paths as in error messages; required keys marked *):
 ///   {
@@ -30,6 +31,7 @@
 #include <nlohmann/json.hpp>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/transport_config.hpp"
 #include "volcomp/loop/limiter.hpp"
 #include "volcomp/loop/loop_settings.hpp"
 
@@ -54,9 +56,8 @@ struct DaemonConfig {
   std::string modelPath;  ///< resolved against the configuration file's directory
   ReconnectConfig reconnect;
   std::string logLevel = "info";
-  std::string transportType;  ///< "modbus-tcp", "modbus-rtu" or "can"
-  /// The whole "transport" object, for the driver's own parser (key paths start at "transport").
-  nlohmann::json transport;
+  /// The "transport" section, read into its driver's settings (transportType() names it).
+  TransportSettings transport;
 };
 
 /// Reads and validates a daemon configuration file. Throws ConfigError (file, key path, what was

@@ -17,13 +17,12 @@ struct LoadedConfiguration {
   std::shared_ptr<loop::CompensationModel> model;
 };
 
-/// Reads the daemon configuration and the model it names. Throws config::ConfigError or
-/// model::ModelError.
+/// Reads the daemon configuration (its transport section into the driver's settings) and the
+/// model it names. Throws config::ConfigError (file, key path, what was expected).
 LoadedConfiguration loadConfiguration(const std::string& configPath);
 
 /// Loads and validates a model file for the daemon (3-axis machine models only; a D-H chain is
-/// rejected). Throws config::ConfigError (file, key path, what was expected) or
-/// model::ModelError.
+/// rejected). Throws config::ConfigError (file, key path, what was expected).
 std::shared_ptr<loop::CompensationModel> loadCompensationModel(const std::string& path);
 
 /// The loop's settings (durations, mm) from the configuration file's values (ms, mm).

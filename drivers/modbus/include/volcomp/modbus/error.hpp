@@ -39,10 +39,6 @@ inline std::error_code make_error_code(Errc e) noexcept {
   return {static_cast<int>(e), modbusCategory()};
 }
 
-/// Maps an errno value set by libmodbus: Modbus exceptions and protocol errors to this category,
-/// ETIMEDOUT to Errc::response_timeout, anything else to std::generic_category.
-std::error_code fromLibmodbusErrno(int err) noexcept;
-
 }  // namespace volcomp::modbus
 
 template <>

@@ -9,6 +9,7 @@
 #include <netinet/tcp.h>
 #include <sys/socket.h>
 
+#include "libmodbus_errno.hpp"
 #include "volcomp/modbus/error.hpp"
 
 namespace volcomp::modbus {
@@ -55,13 +56,13 @@ void ModbusControllerPort::ContextDeleter::operator()(_modbus* ctx) const noexce
   modbus_free(ctx);
 }
 
-ModbusControllerPort::ModbusControllerPort(config::ModbusConfig config)
-    : config_(std::move(config)), plan_(planRegisters(config_.registers)) {
+ModbusControllerPort::ModbusControllerPort(ModbusSettings settings)
+    : settings_(std::move(settings)), plan_(planRegisters(settings_.registers)) {
   modbus_t* raw = nullptr;
-  if (const auto* tcp = std::get_if<config::TcpLink>(&config_.link)) {
+  if (const auto* tcp = std::get_if<TcpLink>(&settings_.link)) {
     raw = modbus_new_tcp_pi(tcp->host.c_str(), std::to_string(tcp->port).c_str());
   } else {
-    const auto& rtu = std::get<config::RtuLink>(config_.link);
+    const auto& rtu = std::get<RtuLink>(settings_.link);
     raw = modbus_new_rtu(rtu.device.c_str(), rtu.baud, rtu.parity, rtu.dataBits, rtu.stopBits);
   }
   if (raw == nullptr) {
@@ -71,11 +72,11 @@ ModbusControllerPort::ModbusControllerPort(config::ModbusConfig config)
   // The daemon owns reconnection with its own backoff; libmodbus' recovery would retry a failed
   // send forever inside one call.
   modbus_set_error_recovery(raw, MODBUS_ERROR_RECOVERY_NONE);
-  if (modbus_set_slave(raw, config_.slaveId) != 0) {
+  if (modbus_set_slave(raw, settings_.slaveId) != 0) {
     throw std::system_error(errno, std::generic_category(), "invalid Modbus slave id");
   }
   std::uint32_t sec = 0, usec = 0;
-  toTimeval(config_.responseTimeoutMs, sec, usec);
+  toTimeval(settings_.responseTimeoutMs, sec, usec);
   modbus_set_response_timeout(raw, sec, usec);
   // A response stalled half-way must not hold the cycle longer than a missing one.
   modbus_set_byte_timeout(raw, sec, usec);
@@ -92,7 +93,7 @@ std::error_code ModbusControllerPort::connect() noexcept {
     modbus_close(ctx_.get());
     return linkLossCode(err);
   }
-  if (std::holds_alternative<config::TcpLink>(config_.link)) {
+  if (std::holds_alternative<TcpLink>(settings_.link)) {
     // A request must leave in one segment: with Nagle and the peer's delayed ACK a split request
     // costs ~40 ms.
     int one = 1;
@@ -127,7 +128,7 @@ std::error_code ModbusControllerPort::fail(int err) noexcept {
     ++stats_.timeouts;
     // A late response would otherwise be taken for the answer to the next request.
     modbus_flush(ctx_.get());
-    if (++consecutiveTimeouts_ >= config_.linkLossTimeouts) {
+    if (++consecutiveTimeouts_ >= settings_.linkLossTimeouts) {
       ++stats_.linkLosses;
       disconnect();
       return std::make_error_code(std::errc::not_connected);
@@ -167,7 +168,7 @@ std::error_code ModbusControllerPort::read(loop::AxisSample& out) noexcept {
     return ec;
   }
   return decodeInputs(
-      config_.registers,
+      settings_.registers,
       ConstTableView{std::span<const std::uint16_t>(holding_.data(), holding_.size()),
                      plan_.holdingRead.start},
       ConstTableView{std::span<const std::uint16_t>(input_.data(), input_.size()),
@@ -179,13 +180,13 @@ std::error_code ModbusControllerPort::write(const loop::OffsetCommand& command) 
   if (!connected_) return std::make_error_code(std::errc::not_connected);
   prefetched_ = false;
   if (auto ec = encodeOutputs(
-          config_.registers, command,
+          settings_.registers, command,
           TableView{std::span<std::uint16_t>(output_.data(), output_.size()), plan_.write.start})) {
     return ec;
   }
   modbus_t* ctx = ctx_.get();
   ++stats_.transactions;
-  if (config_.registers.fc23 && plan_.holdingRead.count > 0) {
+  if (settings_.registers.fc23 && plan_.holdingRead.count > 0) {
     if (modbus_write_and_read_registers(ctx, plan_.write.start, plan_.write.count, output_.data(),
                                         plan_.holdingRead.start, plan_.holdingRead.count,
                                         holding_.data()) != plan_.holdingRead.count) {
@@ -198,20 +199,6 @@ std::error_code ModbusControllerPort::write(const loop::OffsetCommand& command) 
   }
   succeeded();
   return {};
-}
-
-std::unique_ptr<loop::ControllerPort> makeControllerPort(const nlohmann::json& transportSection,
-                                                         const std::string& file,
-                                                         const std::string& keyPath) {
-  config::ModbusConfig parsed = config::parseModbusConfig(transportSection, file, keyPath);
-  try {
-    return std::make_unique<ModbusControllerPort>(std::move(parsed));
-  } catch (const std::system_error& e) {
-    // Validated settings make this unreachable in practice; if libmodbus still refuses them,
-    // the daemon reports it like any other configuration error.
-    throw config::ConfigError(file, keyPath,
-                              std::string("libmodbus refused the settings: ") + e.what());
-  }
 }
 
 }  // namespace volcomp::modbus

@@ -1,14 +1,14 @@
-#include "volcomp/can/can_sim_node.hpp"
+#include "volcomp/sim/can_sim_node.hpp"
 
-namespace volcomp::can {
+namespace volcomp::sim {
 
-CanSimNode::CanSimNode(asio::io_context& io, CanLayout layout, Callbacks callbacks,
+CanSimNode::CanSimNode(asio::io_context& io, can::CanLayout layout, Callbacks callbacks,
                        std::chrono::microseconds broadcastPeriod)
     : node_(io, layout),
       timer_(io),
       callbacks_(std::move(callbacks)),
       period_(broadcastPeriod),
-      broadcast_(layout.trigger == config::CanTrigger::Broadcast) {
+      broadcast_(layout.trigger == can::Trigger::Broadcast) {
   node_.setSyncHandler([this] { publish(); });
   node_.setCommandHandler([this](const loop::OffsetCommand& command) {
     callbacks_.onWrite(callbacks_.nowS(), command);
@@ -50,4 +50,4 @@ void CanSimNode::scheduleBroadcast() {
   });
 }
 
-}  // namespace volcomp::can
+}  // namespace volcomp::sim

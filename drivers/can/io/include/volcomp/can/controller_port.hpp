@@ -29,7 +29,6 @@
 #include <vector>
 
 #include <asio/io_context.hpp>
-#include <nlohmann/json.hpp>
 
 #include "volcomp/can/channel.hpp"
 #include "volcomp/can/layout.hpp"
@@ -106,11 +105,5 @@ class CanControllerPort final : public loop::ControllerPort, private FrameReceiv
   std::error_code lastLinkError_;
   CanStats stats_;
 };
-
-/// Builds the CAN port from a transport section (see volcomp/config/can_config.hpp). Throws
-/// config::ConfigError naming `file` (or the DBC file) and the key path under `keyPath`.
-std::unique_ptr<CanControllerPort> makeCanControllerPort(const nlohmann::json& section,
-                                                         const std::string& file,
-                                                         const std::string& keyPath = "transport");
 
 }  // namespace volcomp::can

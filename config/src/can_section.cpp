@@ -1,4 +1,4 @@
-#include "volcomp/config/can_config.hpp"
+#include "can_section.hpp"
 
 #include <charconv>
 #include <filesystem>
@@ -39,31 +39,33 @@ std::uint32_t readId(const JsonReader& r, bool extended) {
   return static_cast<std::uint32_t>(v);
 }
 
-CanSignalConfig readSignal(const JsonReader& r) {
+CanSignalRef readSignal(const JsonReader& r) {
   r.expectObject();
-  CanSignalConfig s;
-  s.keyPath = r.path();
+  CanSignalRef ref;
+  ref.keyPath = r.path();
   if (r.has("dbc")) {
     r.allowOnly({"dbc"});
-    s.dbcName = r.at("dbc").string();
-    if (s.dbcName.empty()) r.at("dbc").fail("expected a DBC signal name, got an empty string");
-    return s;
+    ref.dbcName = r.at("dbc").string();
+    if (ref.dbcName.empty()) r.at("dbc").fail("expected a DBC signal name, got an empty string");
+    return ref;
   }
   r.allowOnly({"id", "extended", "start_bit", "length", "byte_order", "type", "scale", "offset",
                "min", "max", "unit"});
+  can::SignalSpec& s = ref.spec;
+  s.name = ref.keyPath;
   s.extended = r.booleanOr("extended", false);
   s.frameId = readId(r.at("id"), s.extended);
   s.startBit = static_cast<unsigned>(r.at("start_bit").integer(0, 511));
   s.length = static_cast<unsigned>(r.at("length").integer(1, 64));
   if (auto order = r.find("byte_order"))
-    s.byteOrder = order->oneOf({"intel", "motorola"}) == "intel" ? CanByteOrder::Intel
-                                                                 : CanByteOrder::Motorola;
+    s.byteOrder = order->oneOf({"intel", "motorola"}) == "intel" ? can::ByteOrder::Intel
+                                                                 : can::ByteOrder::Motorola;
   if (auto type = r.find("type")) {
     const std::string t = type->oneOf({"unsigned", "signed", "float32", "float64"});
-    s.valueType = t == "unsigned"  ? CanValueType::Unsigned
-                  : t == "signed"  ? CanValueType::Signed
-                  : t == "float32" ? CanValueType::Float32
-                                   : CanValueType::Float64;
+    s.valueType = t == "unsigned"  ? can::ValueType::Unsigned
+                  : t == "signed"  ? can::ValueType::Signed
+                  : t == "float32" ? can::ValueType::Float32
+                                   : can::ValueType::Float64;
   }
   s.scale = r.numberOr("scale", 1.0);
   if (s.scale == 0.0) r.at("scale").fail("expected a non-zero scale, got 0");
@@ -72,10 +74,10 @@ CanSignalConfig readSignal(const JsonReader& r) {
   s.maximum = r.numberOr("max", 0.0);
   if (s.minimum > s.maximum) r.fail("min must not exceed max");
   s.unit = r.stringOr("unit", "");
-  return s;
+  return ref;
 }
 
-std::array<CanSignalConfig, 3> readAxes(const JsonReader& r) {
+std::array<CanSignalRef, 3> readAxes(const JsonReader& r) {
   r.allowOnly({"X", "Y", "Z"});
   return {readSignal(r.at("X")), readSignal(r.at("Y")), readSignal(r.at("Z"))};
 }
@@ -99,12 +101,12 @@ CanSyncFrame readSync(const JsonReader& r, bool fd) {
 
 }  // namespace
 
-CanConfig parseCanConfig(const nlohmann::json& section, const std::string& file,
-                         const std::string& keyPath) {
+CanSection parseCanSection(const nlohmann::json& section, const std::string& file,
+                           const std::string& keyPath) {
   const JsonReader root(section, file, keyPath);
   root.allowOnly({"type", "interface", "fd", "bitrate_switch", "trigger", "dbc", "timeouts", "sync",
                   "inputs", "outputs"});
-  CanConfig c;
+  CanSection c;
   c.file = file;
   c.keyPath = keyPath;
   if (auto type = root.find("type")) type->oneOf({"can"});
@@ -114,8 +116,9 @@ CanConfig parseCanConfig(const nlohmann::json& section, const std::string& file,
     root.at("interface").failExpected("an interface name of 1 to 15 characters");
   c.fd = root.booleanOr("fd", false);
   c.bitrateSwitch = root.booleanOr("bitrate_switch", true);
-  c.trigger = root.at("trigger").oneOf({"broadcast", "sync"}) == "broadcast" ? CanTrigger::Broadcast
-                                                                             : CanTrigger::Sync;
+  c.trigger = root.at("trigger").oneOf({"broadcast", "sync"}) == "broadcast"
+                  ? can::Trigger::Broadcast
+                  : can::Trigger::Sync;
   if (auto dbc = root.find("dbc")) {
     const std::filesystem::path dbcFile = dbc->string();
     c.dbcPath = dbcFile.is_absolute()
@@ -128,7 +131,7 @@ CanConfig parseCanConfig(const nlohmann::json& section, const std::string& file,
     if (auto response = timeouts->find("response_ms"))
       c.responseTimeoutMs = response->number(0.1, 60000.0);
   }
-  if (c.trigger == CanTrigger::Sync)
+  if (c.trigger == can::Trigger::Sync)
     c.sync = readSync(root.at("sync"), c.fd);
   else if (root.has("sync"))
     root.at("sync").fail("a SYNC frame is only used with \"trigger\": \"sync\"");

@@ -112,7 +112,7 @@ std::error_code CanControllerPort::read(loop::AxisSample& out) noexcept {
   if (linkLost_) return linkDown();
   if (auto ec = busError()) return ec;
 
-  if (layout_.trigger == config::CanTrigger::Sync) {
+  if (layout_.trigger == Trigger::Sync) {
     // Frames that arrived before this SYNC belong to an earlier cycle.
     for (InputSlot& slot : slots_) slot.fresh = false;
     if (auto ec = channel_.send(*layout_.syncFrame, layout_.bitrateSwitch)) {
@@ -293,12 +293,6 @@ void CanControllerPort::onReceiveError(std::error_code ec) noexcept {
   ++stats_.linkErrors;
   lastLinkError_ = ec;
   linkLost_ = true;
-}
-
-std::unique_ptr<CanControllerPort> makeCanControllerPort(const nlohmann::json& section,
-                                                         const std::string& file,
-                                                         const std::string& keyPath) {
-  return std::make_unique<CanControllerPort>(loadCanLayout(section, file, keyPath));
 }
 
 }  // namespace volcomp::can

@@ -1,26 +1,34 @@
-#include "volcomp/can/layout.hpp"
-
 #include <algorithm>
 #include <bitset>
 #include <cmath>
 #include <cstdio>
 
+#include "can_section.hpp"
 #include "volcomp/can/dbc.hpp"
-#include "volcomp/config/config_error.hpp"
+#include "volcomp/config/can_config.hpp"
+#include "volcomp/config/dbc_file.hpp"
 
-namespace volcomp::can {
+namespace volcomp::config {
 namespace {
 
-using config::CanSignalConfig;
-using config::ConfigError;
+using can::ByteOrder;
+using can::CanLayout;
+using can::DbcDatabase;
+using can::DbcMessage;
+using can::Field;
+using can::FieldSignal;
+using can::Frame;
+using can::FrameLayout;
+using can::SignalSpec;
+using can::ValueType;
 
 constexpr Field fieldAt(Field first, std::size_t axis) noexcept {
   return static_cast<Field>(static_cast<std::size_t>(first) + axis);
 }
 
 /// Payload bit numbers (DBC numbering: byte * 8 + bit, bit 0 = LSB) the signal occupies.
-std::bitset<8 * kFdMaxLength> occupiedBits(const SignalSpec& spec) {
-  std::bitset<8 * kFdMaxLength> bits;
+std::bitset<8 * can::kFdMaxLength> occupiedBits(const SignalSpec& spec) {
+  std::bitset<8 * can::kFdMaxLength> bits;
   const unsigned msbLinear = (spec.startBit / 8) * 8 + (7 - spec.startBit % 8);
   for (unsigned i = 0; i < spec.length; ++i) {
     if (spec.byteOrder == ByteOrder::Intel) {
@@ -41,7 +49,7 @@ std::string idText(std::uint32_t id, bool extended) {
 
 class Resolver {
  public:
-  explicit Resolver(const config::CanConfig& c) : c_(c) {
+  explicit Resolver(const CanSection& c) : c_(c) {
     if (!c.dbcPath.empty()) dbc_ = readDbcFile(c.dbcPath);
     layout_.interfaceName = c.interfaceName;
     layout_.fd = c.fd;
@@ -62,7 +70,7 @@ class Resolver {
       for (std::size_t i = 0; i < 3; ++i)
         add(fieldAt(Field::AppliedX, i), (*c_.appliedOffset)[i], true);
     }
-    for (const CanSignalConfig& s : c_.sequence) add(Field::Sequence, s, true);
+    for (const CanSignalRef& s : c_.sequence) add(Field::Sequence, s, true);
     layout_.hasSequence = !c_.sequence.empty();
     for (std::size_t i = 0; i < 3; ++i) add(fieldAt(Field::OffsetX, i), c_.offset[i], false);
     add(Field::Status, c_.status, false);
@@ -76,11 +84,11 @@ class Resolver {
     throw ConfigError(c_.file, keyPath, message);
   }
 
-  static std::string where(const CanSignalConfig& s) {
+  static std::string where(const CanSignalRef& s) {
     return s.dbcName.empty() ? std::string() : "DBC signal " + s.dbcName + ": ";
   }
 
-  SignalSpec toSpec(const CanSignalConfig& s, std::size_t& dbcLength) const {
+  SignalSpec toSpec(const CanSignalRef& s, std::size_t& dbcLength) const {
     dbcLength = 0;
     if (!s.dbcName.empty()) {
       if (!dbc_) fail(s.keyPath + ".dbc", "a DBC signal is referenced but no \"dbc\" file is set");
@@ -96,43 +104,16 @@ class Resolver {
       dbcLength = message ? message->length : 0;
       return found.front()->spec;
     }
-    SignalSpec spec;
-    spec.name = s.keyPath;
-    spec.frameId = s.frameId;
-    spec.extended = s.extended;
-    spec.startBit = s.startBit;
-    spec.length = s.length;
-    spec.byteOrder =
-        s.byteOrder == config::CanByteOrder::Intel ? ByteOrder::Intel : ByteOrder::Motorola;
-    switch (s.valueType) {
-      case config::CanValueType::Unsigned:
-        spec.valueType = ValueType::Unsigned;
-        break;
-      case config::CanValueType::Signed:
-        spec.valueType = ValueType::Signed;
-        break;
-      case config::CanValueType::Float32:
-        spec.valueType = ValueType::Float32;
-        break;
-      case config::CanValueType::Float64:
-        spec.valueType = ValueType::Float64;
-        break;
-    }
-    spec.scale = s.scale;
-    spec.offset = s.offset;
-    spec.minimum = s.minimum;
-    spec.maximum = s.maximum;
-    spec.unit = s.unit;
-    return spec;
+    return s.spec;
   }
 
-  void add(Field field, const CanSignalConfig& s, bool input) {
+  void add(Field field, const CanSignalRef& s, bool input) {
     std::size_t dbcLength = 0;
     const SignalSpec spec = toSpec(s, dbcLength);
     const std::string prefix = where(s);
     if (const std::string problem = layoutProblem(spec); !problem.empty())
       fail(s.keyPath, prefix + problem);
-    const std::size_t maxLength = c_.fd ? kFdMaxLength : kClassicMaxLength;
+    const std::size_t maxLength = c_.fd ? can::kFdMaxLength : can::kClassicMaxLength;
     if (bytesNeeded(spec) > maxLength)
       fail(s.keyPath, prefix + "signal needs " + std::to_string(bytesNeeded(spec)) +
                           " bytes, more than a " + (c_.fd ? "CAN FD" : "classical CAN") +
@@ -179,8 +160,8 @@ class Resolver {
   }
 
   void finish() {
-    for (FrameLayout& f : layout_.outputFrames) f.length = validLengthAtLeast(f.length, c_.fd);
-    if (c_.trigger == config::CanTrigger::Broadcast && layout_.inputFrames.size() > 1) {
+    for (FrameLayout& f : layout_.outputFrames) f.length = can::validLengthAtLeast(f.length, c_.fd);
+    if (c_.trigger == can::Trigger::Broadcast && layout_.inputFrames.size() > 1) {
       for (std::size_t i = 0; i < layout_.inputFrames.size(); ++i) {
         const FrameLayout& f = layout_.inputFrames[i];
         const bool hasCounter = std::any_of(f.signals.begin(), f.signals.end(), [](const auto& s) {
@@ -197,7 +178,7 @@ class Resolver {
       Frame sync;
       sync.id = c_.sync->id;
       sync.extended = c_.sync->extended;
-      sync.fd = c_.fd && c_.sync->data.size() > kClassicMaxLength;
+      sync.fd = c_.fd && c_.sync->data.size() > can::kClassicMaxLength;
       sync.length = static_cast<std::uint8_t>(c_.sync->data.size());
       std::copy(c_.sync->data.begin(), c_.sync->data.end(), sync.data.begin());
       for (const auto* frames : {&layout_.inputFrames, &layout_.outputFrames})
@@ -209,7 +190,7 @@ class Resolver {
     }
   }
 
-  const config::CanConfig& c_;
+  const CanSection& c_;
   std::optional<DbcDatabase> dbc_;
   CanLayout layout_;
   /// Key paths of the signals of each frame (index 0: outputs, 1: inputs), for overlap messages.
@@ -218,13 +199,13 @@ class Resolver {
 
 }  // namespace
 
-CanLayout resolveCanConfig(const config::CanConfig& config) {
-  return Resolver(config).run();
+CanLayout resolveCanSection(const CanSection& section) {
+  return Resolver(section).run();
 }
 
 CanLayout loadCanLayout(const nlohmann::json& section, const std::string& file,
                         const std::string& keyPath) {
-  return resolveCanConfig(config::parseCanConfig(section, file, keyPath));
+  return resolveCanSection(parseCanSection(section, file, keyPath));
 }
 
-}  // namespace volcomp::can
+}  // namespace volcomp::config

@@ -20,11 +20,9 @@
 #include <string>
 #include <system_error>
 
-#include <nlohmann/json.hpp>
-
-#include "volcomp/config/modbus_config.hpp"
 #include "volcomp/loop/ports.hpp"
 #include "volcomp/modbus/register_plan.hpp"
+#include "volcomp/modbus/settings.hpp"
 
 struct _modbus;  // libmodbus' modbus_t
 
@@ -43,7 +41,7 @@ class ModbusControllerPort final : public loop::ControllerPort {
  public:
   /// Creates the libmodbus context (no I/O yet). Throws std::system_error when libmodbus rejects
   /// the parameters.
-  explicit ModbusControllerPort(config::ModbusConfig config);
+  explicit ModbusControllerPort(ModbusSettings settings);
   ~ModbusControllerPort() override;
   ModbusControllerPort(const ModbusControllerPort&) = delete;
   ModbusControllerPort& operator=(const ModbusControllerPort&) = delete;
@@ -54,7 +52,7 @@ class ModbusControllerPort final : public loop::ControllerPort {
   std::error_code read(loop::AxisSample& out) noexcept override;
   std::error_code write(const loop::OffsetCommand& command) noexcept override;
 
-  const config::ModbusConfig& config() const noexcept { return config_; }
+  const ModbusSettings& settings() const noexcept { return settings_; }
   const RegisterPlan& plan() const noexcept { return plan_; }
   const PortStatistics& statistics() const noexcept { return stats_; }
 
@@ -67,7 +65,7 @@ class ModbusControllerPort final : public loop::ControllerPort {
   void succeeded() noexcept { consecutiveTimeouts_ = 0; }
   std::error_code readTables() noexcept;
 
-  config::ModbusConfig config_;
+  ModbusSettings settings_;
   RegisterPlan plan_;
   std::unique_ptr<_modbus, ContextDeleter> ctx_;
   bool connected_ = false;
@@ -78,12 +76,5 @@ class ModbusControllerPort final : public loop::ControllerPort {
   std::array<std::uint16_t, 123> output_{};
   PortStatistics stats_;
 };
-
-/// Factory for volcompd: parses the transport section (type "modbus-tcp" or "modbus-rtu"; key
-/// paths in errors start at `keyPath`) and returns an unconnected port. Throws ConfigError (also
-/// when libmodbus refuses the validated settings).
-std::unique_ptr<loop::ControllerPort> makeControllerPort(const nlohmann::json& transportSection,
-                                                         const std::string& file,
-                                                         const std::string& keyPath = "transport");
 
 }  // namespace volcomp::modbus

@@ -7,9 +7,9 @@
 /// - every complete set of output frames is handed to onWrite(t, command).
 /// Time t is seconds from `nowS`.
 ///
-/// Wiring into volcomp-sim (transport type "can"):
+/// Wiring (CanServer does this for volcomp-sim):
 ///   asio::io_context io;
-///   can::CanSimNode node(io, can::loadCanLayout(transportSection, file, "transport"),
+///   sim::CanSimNode node(io, layout,
 ///       {.inputs = [&](double t) { return machine.inputs(t); },
 ///        .onWrite = [&](double t, const loop::OffsetCommand& c) { machine.onWrite(t, c); },
 ///        .nowS = [&] { return secondsSinceStart(); }},
@@ -26,7 +26,7 @@
 #include "volcomp/can/controller_node.hpp"
 #include "volcomp/can/layout.hpp"
 
-namespace volcomp::can {
+namespace volcomp::sim {
 
 class CanSimNode {
  public:
@@ -36,7 +36,7 @@ class CanSimNode {
     std::function<double()> nowS;
   };
 
-  CanSimNode(asio::io_context& io, CanLayout layout, Callbacks callbacks,
+  CanSimNode(asio::io_context& io, can::CanLayout layout, Callbacks callbacks,
              std::chrono::microseconds broadcastPeriod);
 
   /// Opens the socket and, with the broadcast trigger, starts sending. network_down when the
@@ -48,13 +48,13 @@ class CanSimNode {
 
   std::uint64_t published() const noexcept { return published_; }
   std::uint64_t publishErrors() const noexcept { return publishErrors_; }
-  const CanControllerNode& node() const noexcept { return node_; }
+  const can::CanControllerNode& node() const noexcept { return node_; }
 
  private:
   void publish();
   void scheduleBroadcast();
 
-  CanControllerNode node_;
+  can::CanControllerNode node_;
   asio::steady_timer timer_;
   Callbacks callbacks_;
   std::chrono::microseconds period_;
@@ -65,4 +65,4 @@ class CanSimNode {
   std::uint64_t publishErrors_ = 0;
 };
 
-}  // namespace volcomp::can
+}  // namespace volcomp::sim

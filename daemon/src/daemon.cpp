@@ -30,7 +30,7 @@ std::string monotonicUsec() {
 
 }  // namespace
 
-Daemon::Daemon(asio::io_context& io, loop::ControllerPort& port, const loop::Clock& clock,
+Daemon::Daemon(asio::io_context& io, loop::ControllerPort& port, WaitableClock& clock,
                Notifier& notifier, LoadedConfiguration initial, Loader reloadLoader,
                std::function<void()> onFinished)
     : io_(io),
@@ -38,7 +38,7 @@ Daemon::Daemon(asio::io_context& io, loop::ControllerPort& port, const loop::Clo
       notifier_(notifier),
       config_(std::move(initial.config)),
       loop_(port, clock, std::move(initial.model), loopSettingsFrom(config_)),
-      scheduler_(io, loopSettingsFrom(config_).period, [this] { return cycle(); }),
+      scheduler_(clock, loopSettingsFrom(config_).period, [this] { return cycle(); }),
       reloadLoader_(std::move(reloadLoader)),
       onFinished_(std::move(onFinished)) {}
 

@@ -20,7 +20,7 @@
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/daemon/daemon.hpp"
 #include "volcomp/daemon/notifier.hpp"
-#include "volcomp/loop/steady_clock.hpp"
+#include "volcomp/daemon/waitable_clock.hpp"
 
 namespace {
 
@@ -73,7 +73,7 @@ int run(const std::string& configPath, bool checkOnly, bool verbose) {
   }
 
   asio::io_context io;
-  volcomp::loop::SteadyClock clock;
+  volcomp::daemon::SteadyWaitableClock clock(io);
   volcomp::daemon::SystemdNotifier notifier;
   asio::signal_set signals(io, SIGINT, SIGTERM, SIGHUP);
   volcomp::daemon::Daemon daemon(

@@ -22,6 +22,7 @@
 #include "volcomp/daemon/configuration.hpp"
 #include "volcomp/daemon/notifier.hpp"
 #include "volcomp/daemon/scheduler.hpp"
+#include "volcomp/daemon/waitable_clock.hpp"
 #include "volcomp/loop/compensation_loop.hpp"
 #include "volcomp/loop/ports.hpp"
 
@@ -32,9 +33,10 @@ class Daemon {
   /// Loads a configuration for a reload; throws on a bad file (the running one then stays).
   using Loader = std::function<LoadedConfiguration()>;
 
-  Daemon(asio::io_context& io, loop::ControllerPort& port, const loop::Clock& clock,
-         Notifier& notifier, LoadedConfiguration initial, Loader reloadLoader,
-         std::function<void()> onFinished);
+  /// `clock` is the one time source of the loop and the scheduler (and waits for the deadlines);
+  /// it must run its waits on `io`.
+  Daemon(asio::io_context& io, loop::ControllerPort& port, WaitableClock& clock, Notifier& notifier,
+         LoadedConfiguration initial, Loader reloadLoader, std::function<void()> onFinished);
   ~Daemon();
   Daemon(const Daemon&) = delete;
   Daemon& operator=(const Daemon&) = delete;

@@ -38,20 +38,22 @@
 #include <asio/post.hpp>
 #include <nlohmann/json.hpp>
 
-#include "volcomp/can/can_sim_node.hpp"
 #include "volcomp/can/controller_port.hpp"
 #include "volcomp/can/layout.hpp"
 #include "volcomp/can/signal.hpp"
-#include "volcomp/daemon/compensation_loop.hpp"
-#include "volcomp/daemon/compensation_model.hpp"
-#include "volcomp/daemon/steady_clock.hpp"
+#include "volcomp/config/can_config.hpp"
+#include "volcomp/daemon/configuration.hpp"
+#include "volcomp/loop/compensation_loop.hpp"
+#include "volcomp/loop/compensation_model.hpp"
+#include "volcomp/loop/steady_clock.hpp"
+#include "volcomp/sim/can_sim_node.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
-using volcomp::daemon::AxisSample;
-using volcomp::daemon::OffsetCommand;
+using volcomp::loop::AxisSample;
+using volcomp::loop::OffsetCommand;
 
 std::string env(const char* name, const std::string& fallback) {
   const char* v = std::getenv(name);
@@ -74,7 +76,7 @@ volcomp::can::CanLayout exampleLayout(bool sync) {
     transport["sync"] = {{"id", "0x080"}};
     transport["timeouts"]["response_ms"] = 20;
   }
-  return volcomp::can::loadCanLayout(transport, file, "transport");
+  return volcomp::config::loadCanLayout(transport, file, "transport");
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -145,7 +147,7 @@ class NodeThread {
 
   asio::io_context io_;
   asio::executor_work_guard<asio::io_context::executor_type> work_;
-  volcomp::can::CanSimNode node_;
+  volcomp::sim::CanSimNode node_;
   std::thread thread_;
   double angle_ = 0.0;
   std::uint16_t sequence_ = 0;
@@ -157,8 +159,8 @@ class NodeThread {
 void canCycle(benchmark::State& state, bool sync) {
   std::unique_ptr<NodeThread> node;
   std::unique_ptr<volcomp::can::CanControllerPort> port;
-  std::unique_ptr<volcomp::daemon::CompensationLoop> loop;
-  volcomp::daemon::SteadyClock clock;
+  std::unique_ptr<volcomp::loop::CompensationLoop> loop;
+  volcomp::loop::SteadyClock clock;
   try {
     const volcomp::can::CanLayout layout = exampleLayout(sync);
     node = std::make_unique<NodeThread>(layout);
@@ -166,11 +168,11 @@ void canCycle(benchmark::State& state, bool sync) {
       state.SkipWithError(("cannot open the CAN interface: " + ec.message()).c_str());
       return;
     }
-    volcomp::daemon::LoopSettings settings;
+    volcomp::loop::LoopSettings settings;
     settings.limiter.maxOffsetMm = 0.1;
     settings.limiter.maxRateMmS = 0.5;
     port = std::make_unique<volcomp::can::CanControllerPort>(layout);
-    loop = std::make_unique<volcomp::daemon::CompensationLoop>(
+    loop = std::make_unique<volcomp::loop::CompensationLoop>(
         *port, clock, volcomp::daemon::loadCompensationModel(dataDir() + "/vmc-xyfz-21.json"),
         settings);
   } catch (const std::exception& e) {
@@ -178,11 +180,11 @@ void canCycle(benchmark::State& state, bool sync) {
     return;
   }
   // Until the loop is active (connect, read back the applied offsets, ramp in).
-  for (int i = 0; i < 500 && loop->state() != volcomp::daemon::LoopState::Active; ++i) {
+  for (int i = 0; i < 500 && loop->state() != volcomp::loop::LoopState::Active; ++i) {
     loop->step();
     std::this_thread::sleep_for(2ms);  // the broadcast node needs time to send a first set
   }
-  if (loop->state() != volcomp::daemon::LoopState::Active) {
+  if (loop->state() != volcomp::loop::LoopState::Active) {
     state.SkipWithError("the loop did not become active");
     return;
   }
@@ -195,9 +197,9 @@ void canCycle(benchmark::State& state, bool sync) {
   for (auto _ : state) {
     ++heartbeat;
     const auto t0 = Clock::now();
-    const volcomp::daemon::CycleReport report = loop->step();
+    const volcomp::loop::CycleReport report = loop->step();
     const auto tStep = Clock::now();
-    if (report.state != volcomp::daemon::LoopState::Active) ++faults;
+    if (report.state != volcomp::loop::LoopState::Active) ++faults;
     // Wait for the node to have the whole command (both output frames), at most 1 s.
     const auto received = node->waitFor(heartbeat, t0, 1s);
     if (!received) {

@@ -23,17 +23,16 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "volcomp/config/modbus_config.hpp"
-#include "volcomp/daemon/compensation_loop.hpp"
 #include "volcomp/daemon/daemon.hpp"
-#include "volcomp/daemon/loop_settings.hpp"
-#include "volcomp/daemon/steady_clock.hpp"
+#include "volcomp/loop/compensation_loop.hpp"
+#include "volcomp/loop/loop_settings.hpp"
+#include "volcomp/loop/steady_clock.hpp"
 #include "volcomp/modbus/controller_port.hpp"
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using volcomp::daemon::LoopState;
+using volcomp::loop::LoopState;
 
 struct Summary {
   double medianUs = 0, p99Us = 0, p999Us = 0, maxUs = 0, meanUs = 0;
@@ -70,7 +69,7 @@ double microseconds(Clock::duration d) {
 }
 
 /// Steps the loop on the pacing grid until it is Active (connect, read back, first write).
-bool stepUntilActive(volcomp::daemon::CompensationLoop& loop, Clock::time_point& next,
+bool stepUntilActive(volcomp::loop::CompensationLoop& loop, Clock::time_point& next,
                      Clock::duration period, int maxCycles) {
   for (int i = 0; i < maxCycles; ++i) {
     std::this_thread::sleep_until(next);
@@ -103,11 +102,12 @@ int main(int argc, char** argv) {
 
   try {
     volcomp::daemon::LoadedConfiguration loaded = volcomp::daemon::loadConfiguration(configPath);
-    if (port >= 0) loaded.config.transport["port"] = port;
-    const volcomp::config::ModbusConfig modbusConfig =
-        volcomp::config::parseModbusConfig(loaded.config.transport, configPath, "transport");
-    const auto* tcp = std::get_if<volcomp::config::TcpLink>(&modbusConfig.link);
+    auto* modbusSettings = std::get_if<volcomp::modbus::ModbusSettings>(&loaded.config.transport);
+    auto* tcp =
+        modbusSettings ? std::get_if<volcomp::modbus::TcpLink>(&modbusSettings->link) : nullptr;
     if (tcp == nullptr) throw std::runtime_error("the harness measures modbus-tcp only");
+    if (port >= 0) tcp->port = static_cast<std::uint16_t>(port);
+    const volcomp::modbus::ModbusSettings& modbusConfig = *modbusSettings;
     volcomp::modbus::ModbusControllerPort controllerPort(modbusConfig);
     const volcomp::modbus::RegisterPlan plan = controllerPort.plan();
     if (plan.inputRead.count != 0 || modbusConfig.registers.fc23) {
@@ -115,7 +115,7 @@ int main(int argc, char** argv) {
           "the bare transaction mirrors FC03 + FC16: use a holding-only map "
           "without fc23");
     }
-    volcomp::daemon::SteadyClock clock;
+    volcomp::loop::SteadyClock clock;
     const Clock::duration period = std::chrono::microseconds(periodUs);
     const int perRound = std::max(1, samples / rounds);
     std::vector<double> cycleUs, bareUs, wakeLateUs;
@@ -128,8 +128,8 @@ int main(int argc, char** argv) {
     for (int r = 0; r < rounds; ++r) {
       // Daemon cycles: a fresh loop per round (it connects and reads the offsets back first).
       {
-        volcomp::daemon::CompensationLoop loop(controllerPort, clock, loaded.model,
-                                               volcomp::daemon::loopSettingsFrom(loaded.config));
+        volcomp::loop::CompensationLoop loop(controllerPort, clock, loaded.model,
+                                             volcomp::daemon::loopSettingsFrom(loaded.config));
         Clock::time_point next = Clock::now();
         if (!stepUntilActive(loop, next, period, 5000)) {
           throw std::runtime_error("the loop did not become active (is the server running?)");

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "fakes.hpp"
-#include "volcomp/daemon/compensation_loop.hpp"
-#include "volcomp/daemon/limiter.hpp"
+#include "volcomp/loop/compensation_loop.hpp"
+#include "volcomp/loop/limiter.hpp"
 
 namespace {
 

@@ -40,8 +40,8 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
   c.file = file;
   if (auto v = root.find("cycle_period_ms")) c.cyclePeriodMs = v->number(1.0, 1000.0);
   c.positionSemantics = root.at("position_semantics").oneOf({"commanded", "actual"}) == "actual"
-                            ? PositionSemantics::Actual
-                            : PositionSemantics::Commanded;
+                            ? loop::PositionSemantics::Actual
+                            : loop::PositionSemantics::Commanded;
 
   const JsonReader limiter = root.at("limiter");
   limiter.allowOnly({"max_offset_mm", "max_rate_mm_s", "max_accel_mm_s2"});
@@ -91,10 +91,7 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
     c.logLevel = v->oneOf({"trace", "debug", "info", "warn", "error", "critical", "off"});
   }
 
-  const JsonReader transport = root.at("transport");
-  transport.expectObject();
-  c.transportType = transport.at("type").oneOf({"modbus-tcp", "modbus-rtu", "can"});
-  c.transport = transport.json();
+  c.transport = parseTransportSettings(root.at("transport").json(), file, "transport");
   return c;
 }
 

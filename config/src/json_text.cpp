@@ -15,77 +15,43 @@ namespace {
 
 using Json = nlohmann::json;
 
-// nlohmann keeps the last of repeated keys silently and reports number overflow without a
-// position; this SAX handler builds the same DOM but rejects both with a usable location.
-class CheckingSax : public nlohmann::detail::json_sax_dom_parser<Json> {
+// nlohmann keeps the last of repeated keys silently: this parser callback rejects them, naming
+// the key path. It sees every event of the parse (public API: json::parse with a callback) and
+// keeps one frame per open object or array.
+class DuplicateKeyCheck {
  public:
-  CheckingSax(Json& document, std::string_view text, const std::string& file)
-      : json_sax_dom_parser<Json>(document, true), text_(text), file_(file) {}
+  explicit DuplicateKeyCheck(const std::string& file) : file_(file) {}
 
-  bool null() { return value(&Base::null); }
-  bool boolean(bool v) {
-    return value([&] { return Base::boolean(v); });
-  }
-  bool number_integer(Json::number_integer_t v) {
-    return value([&] { return Base::number_integer(v); });
-  }
-  bool number_unsigned(Json::number_unsigned_t v) {
-    return value([&] { return Base::number_unsigned(v); });
-  }
-  bool number_float(Json::number_float_t v, const Json::string_t& s) {
-    return value([&] { return Base::number_float(v, s); });
-  }
-  bool string(Json::string_t& v) {
-    return value([&] { return Base::string(v); });
-  }
-  bool binary(Json::binary_t& v) {
-    return value([&] { return Base::binary(v); });
-  }
-
-  bool start_object(std::size_t n) {
-    push(true);
-    return Base::start_object(n);
-  }
-  bool end_object() {
-    frames_.pop_back();
-    return Base::end_object();
-  }
-  bool start_array(std::size_t n) {
-    push(false);
-    return Base::start_array(n);
-  }
-  bool end_array() {
-    frames_.pop_back();
-    return Base::end_array();
-  }
-  bool key(Json::string_t& k) {
-    Frame& top = frames_.back();
-    if (!top.seen.insert(k).second) {
-      throw ConfigError(file_, pathOf(frames_.size(), k),
-                        "duplicate key (each key may appear once per object)");
+  bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start:
+        push(true);
+        break;
+      case Json::parse_event_t::array_start:
+        push(false);
+        break;
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        frames_.pop_back();
+        break;
+      case Json::parse_event_t::key: {
+        Frame& top = frames_.back();
+        const std::string& key = parsed.get_ref<const std::string&>();
+        if (!top.seen.insert(key).second) {
+          throw ConfigError(file_, pathTo(key),
+                            "duplicate key (each key may appear once per object)");
+        }
+        top.key = key;
+        break;
+      }
+      case Json::parse_event_t::value:
+        advance();
+        break;
     }
-    top.key = k;
-    return Base::key(k);
-  }
-
-  template <class Exception>
-  bool parse_error(std::size_t position, const std::string& lastToken, const Exception& ex) {
-    std::string message = ex.what();
-    // Drop the library's "[json.exception.parse_error.101] " prefix: users need the rest only.
-    if (const auto close = message.find("] ");
-        message.rfind("[json.exception", 0) == 0 && close != std::string::npos) {
-      message.erase(0, close + 2);
-    }
-    if (ex.id == 406) {
-      const std::size_t start = position >= lastToken.size() ? position - lastToken.size() : 0;
-      message =
-          "at " + lineColumn(start) + ": number " + lastToken + " is out of the range of a double";
-    }
-    throw ConfigError(file_, "", "invalid JSON: " + message);
+    return true;  // keep everything
   }
 
  private:
-  using Base = nlohmann::detail::json_sax_dom_parser<Json>;
   struct Frame {
     bool object = false;
     std::string segment;  // how this container is reached from its parent: ".key" or "[i]"
@@ -94,15 +60,6 @@ class CheckingSax : public nlohmann::detail::json_sax_dom_parser<Json> {
     std::set<std::string> seen;
   };
 
-  template <class F>
-  bool value(F&& f) {
-    advance();
-    return f();
-  }
-  bool value(bool (Base::*f)()) {
-    advance();
-    return (this->*f)();
-  }
   // A value inside an array moves that array's element counter.
   void advance() {
     if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
@@ -111,7 +68,7 @@ class CheckingSax : public nlohmann::detail::json_sax_dom_parser<Json> {
     Frame frame;
     frame.object = object;
     if (!frames_.empty()) {
-      Frame& parent = frames_.back();
+      const Frame& parent = frames_.back();
       // Appended piece by piece: GCC 12 at -O3 reports a false -Wrestrict overlap for "." + key
       // inside libstdc++ (see the top CMakeLists.txt).
       if (parent.object) {
@@ -126,37 +83,85 @@ class CheckingSax : public nlohmann::detail::json_sax_dom_parser<Json> {
     }
     frames_.push_back(std::move(frame));
   }
-  std::string pathOf(std::size_t depth, const std::string& lastKey) const {
+  std::string pathTo(const std::string& key) const {
     std::string path;
-    for (std::size_t i = 1; i < depth; ++i) path += frames_[i].segment;
+    for (std::size_t i = 1; i < frames_.size(); ++i) path += frames_[i].segment;
     if (!path.empty()) path += '.';
-    return path + lastKey;
-  }
-  std::string lineColumn(std::size_t offset) const {
-    std::size_t line = 1, column = 1;
-    for (std::size_t i = 0; i < offset && i < text_.size(); ++i) {
-      if (text_[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    return "line " + std::to_string(line) + ", column " + std::to_string(column);
+    return path + key;
   }
 
-  std::string_view text_;
   const std::string& file_;
   std::vector<Frame> frames_;
 };
 
+// "line L, column C" of a byte offset (both from 1).
+std::string lineColumn(std::string_view text, std::size_t offset) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+// Offset of the first occurrence of the number `token` outside strings (the parser stops at the
+// first number that overflows, and an earlier identical one would have overflowed too).
+std::size_t findNumber(std::string_view text, std::string_view token) {
+  bool inString = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (inString) {
+      if (c == '\\') {
+        ++i;
+      } else if (c == '"') {
+        inString = false;
+      }
+    } else if (c == '"') {
+      inString = true;
+    } else if (text.substr(i, token.size()) == token &&
+               (i == 0 ||
+                std::string_view("0123456789.+-eE").find(text[i - 1]) == std::string_view::npos)) {
+      return i;  // a whole number, not the tail of another one
+    }
+  }
+  return text.size();
+}
+
+// The library's message without its "[json.exception.parse_error.101] " prefix: users need the
+// rest only.
+std::string withoutPrefix(std::string message) {
+  if (const auto close = message.find("] ");
+      message.rfind("[json.exception", 0) == 0 && close != std::string::npos) {
+    message.erase(0, close + 2);
+  }
+  return message;
+}
+
 }  // namespace
 
 nlohmann::json parseJsonText(std::string_view text, const std::string& file) {
-  Json root;
-  CheckingSax sax(root, text, file);
-  Json::sax_parse(text, &sax);
-  return root;
+  try {
+    return Json::parse(text, DuplicateKeyCheck(file));
+  } catch (const Json::parse_error& e) {
+    throw ConfigError(file, "", "invalid JSON: " + withoutPrefix(e.what()));
+  } catch (const Json::out_of_range& e) {
+    // 406: a number beyond the range of a double, reported without a position; the message
+    // quotes the number, which locates it.
+    const std::string message = e.what();
+    const auto open = message.find('\'');
+    const auto close = message.rfind('\'');
+    if (e.id != 406 || open == std::string::npos || close <= open) {
+      throw ConfigError(file, "", "invalid JSON: " + withoutPrefix(message));
+    }
+    const std::string token = message.substr(open + 1, close - open - 1);
+    throw ConfigError(file, "",
+                      "invalid JSON: at " + lineColumn(text, findNumber(text, token)) +
+                          ": number " + token + " is out of the range of a double");
+  }
 }
 
 nlohmann::json readJsonFile(const std::string& path) {

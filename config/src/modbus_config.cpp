@@ -9,12 +9,17 @@
 namespace volcomp::config {
 namespace {
 
+using modbus::BitRegister;
+using modbus::ModbusSettings;
+using modbus::RegisterMap;
+using modbus::RegisterTable;
+using modbus::RegisterType;
+using modbus::ValueFormat;
+using modbus::ValueRegister;
+using modbus::WordOrder;
+using modbus::WordRegister;
+
 constexpr std::array<const char*, 3> kAxisNames{"X", "Y", "Z"};
-// libmodbus limits (MODBUS_MAX_READ_REGISTERS, MODBUS_MAX_WRITE_REGISTERS,
-// MODBUS_MAX_WR_WRITE_REGISTERS); repeated here because config does not link libmodbus.
-constexpr int kMaxReadRegisters = 125;
-constexpr int kMaxWriteRegisters = 123;
-constexpr int kMaxFc23WriteRegisters = 121;
 
 RegisterTable parseTable(const JsonReader& r) {
   return r.oneOf({"holding", "input"}) == "input" ? RegisterTable::Input : RegisterTable::Holding;
@@ -125,12 +130,12 @@ struct Field {
   const char* tableName() const { return table == RegisterTable::Input ? "input" : "holding"; }
 };
 
-std::vector<Field> collectFields(const ModbusRegisterMap& m) {
+std::vector<Field> collectFields(const RegisterMap& m) {
   std::vector<Field> f;
   for (int i = 0; i < 3; ++i) {
     const auto& p = m.position[i];
     f.push_back({std::string("position.") + kAxisNames[i], FieldKind::Position, p.table, p.address,
-                 registerWidth(p.format.type), i});
+                 modbus::registerWidth(p.format.type), i});
   }
   f.push_back({"enable", FieldKind::Flag, m.enable.table, m.enable.address, 1});
   f.push_back({"homed", FieldKind::Flag, m.homed.table, m.homed.address, 1});
@@ -140,13 +145,13 @@ std::vector<Field> collectFields(const ModbusRegisterMap& m) {
     for (int i = 0; i < 3; ++i) {
       const auto& a = (*m.appliedOffset)[i];
       f.push_back({std::string("applied_offset.") + kAxisNames[i], FieldKind::Applied, a.table,
-                   a.address, registerWidth(a.format.type), i});
+                   a.address, modbus::registerWidth(a.format.type), i});
     }
   }
   for (int i = 0; i < 3; ++i) {
     const auto& o = m.offset[i];
     f.push_back({std::string("offset.") + kAxisNames[i], FieldKind::Output, o.table, o.address,
-                 registerWidth(o.format.type), i});
+                 modbus::registerWidth(o.format.type), i});
   }
   f.push_back({"status", FieldKind::Output, RegisterTable::Holding, m.statusAddress, 1});
   f.push_back({"heartbeat", FieldKind::Output, RegisterTable::Holding, m.heartbeatAddress, 1});
@@ -157,7 +162,7 @@ std::string joinPath(const std::string& base, const std::string& rel) {
   return base.empty() ? rel : base + "." + rel;
 }
 
-bool overlapAllowed(const Field& a, const Field& b, const ModbusRegisterMap& m) {
+bool overlapAllowed(const Field& a, const Field& b, const RegisterMap& m) {
   if (a.kind == FieldKind::Flag && b.kind == FieldKind::Flag) {
     return m.enable.bit != m.homed.bit;
   }
@@ -174,7 +179,7 @@ bool overlapAllowed(const Field& a, const Field& b, const ModbusRegisterMap& m) 
 
 }  // namespace
 
-void validateModbusRegisterMap(const ModbusRegisterMap& m, const std::string& file,
+void validateModbusRegisterMap(const RegisterMap& m, const std::string& file,
                                const std::string& keyPath) {
   const std::vector<Field> fields = collectFields(m);
   for (const Field& f : fields) {
@@ -228,7 +233,7 @@ void validateModbusRegisterMap(const ModbusRegisterMap& m, const std::string& fi
                           std::to_string(lo) + ".." + std::to_string(hi) + " (" +
                           std::to_string(span) + " registers) but occupy " + std::to_string(total));
   }
-  const int maxWrite = m.fc23 ? kMaxFc23WriteRegisters : kMaxWriteRegisters;
+  const int maxWrite = m.fc23 ? modbus::kMaxFc23WriteRegisters : modbus::kMaxWriteRegisters;
   if (span > maxWrite) {
     throw ConfigError(file, keyPath,
                       "the output block has " + std::to_string(span) +
@@ -248,24 +253,24 @@ void validateModbusRegisterMap(const ModbusRegisterMap& m, const std::string& fi
         last = f.name;
       }
     }
-    if (ihi >= 0 && ihi - ilo + 1 > kMaxReadRegisters) {
-      throw ConfigError(file, keyPath,
-                        std::string("the ") + (t == RegisterTable::Input ? "input" : "holding") +
-                            "-register inputs span " + std::to_string(ihi - ilo + 1) +
-                            " registers (" + first + " .. " + last +
-                            "); one read carries at most " + std::to_string(kMaxReadRegisters) +
-                            ": place them closer together");
+    if (ihi >= 0 && ihi - ilo + 1 > modbus::kMaxReadRegisters) {
+      throw ConfigError(
+          file, keyPath,
+          std::string("the ") + (t == RegisterTable::Input ? "input" : "holding") +
+              "-register inputs span " + std::to_string(ihi - ilo + 1) + " registers (" + first +
+              " .. " + last + "); one read carries at most " +
+              std::to_string(modbus::kMaxReadRegisters) + ": place them closer together");
     }
   }
 }
 
-ModbusRegisterMap parseModbusRegisterMap(const nlohmann::json& registers, const std::string& file,
-                                         const std::string& keyPath) {
+RegisterMap parseModbusRegisterMap(const nlohmann::json& registers, const std::string& file,
+                                   const std::string& keyPath) {
   const JsonReader r(registers, file, keyPath);
   r.allowOnly({"fc23", "defaults", "position", "enable", "homed", "sequence", "applied_offset",
                "offset", "status", "heartbeat"});
   const ValueDefaults d = parseDefaults(r);
-  ModbusRegisterMap m;
+  RegisterMap m;
   m.fc23 = r.booleanOr("fc23", false);
   m.position = parseAxes(r.at("position"), d);
   m.enable = parseBit(r.at("enable"));
@@ -279,16 +284,16 @@ ModbusRegisterMap parseModbusRegisterMap(const nlohmann::json& registers, const 
   return m;
 }
 
-ModbusConfig parseModbusConfig(const nlohmann::json& section, const std::string& file,
-                               const std::string& keyPath) {
+ModbusSettings parseModbusSettings(const nlohmann::json& section, const std::string& file,
+                                   const std::string& keyPath) {
   const JsonReader r(section, file, keyPath);
   r.expectObject();
   const std::string type = r.at("type").oneOf({"modbus-tcp", "modbus-rtu"});
-  ModbusConfig c;
+  ModbusSettings c;
   if (type == "modbus-tcp") {
     r.allowOnly({"type", "host", "port", "slave_id", "response_timeout_ms", "link_loss_timeouts",
                  "registers"});
-    TcpLink tcp;
+    modbus::TcpLink tcp;
     tcp.host = r.at("host").string();
     if (tcp.host.empty()) r.at("host").failExpected("a host name or address");
     tcp.port = static_cast<std::uint16_t>(r.at("port").integer(1, 65535));
@@ -296,7 +301,7 @@ ModbusConfig parseModbusConfig(const nlohmann::json& section, const std::string&
   } else {
     r.allowOnly({"type", "device", "baud", "parity", "data_bits", "stop_bits", "slave_id",
                  "response_timeout_ms", "link_loss_timeouts", "registers"});
-    RtuLink rtu;
+    modbus::RtuLink rtu;
     rtu.device = r.at("device").string();
     if (rtu.device.empty()) r.at("device").failExpected("a serial device path");
     rtu.baud = static_cast<int>(r.integerOr("baud", 50, 4000000, 115200));

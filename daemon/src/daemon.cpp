@@ -8,9 +8,13 @@
 #include <utility>
 
 #include "volcomp/config/config_error.hpp"
-#include "volcomp/daemon/loop_settings.hpp"
 
 namespace volcomp::daemon {
+
+using loop::CycleReport;
+using loop::FaultCode;
+using loop::LoopState;
+
 namespace {
 
 spdlog::level::level_enum levelFromName(const std::string& name) {
@@ -26,21 +30,15 @@ std::string monotonicUsec() {
 
 }  // namespace
 
-LoadedConfiguration loadConfiguration(const std::string& configPath) {
-  LoadedConfiguration loaded;
-  loaded.config = config::loadDaemonConfig(configPath);
-  loaded.model = loadCompensationModel(loaded.config.modelPath);
-  return loaded;
-}
-
-Daemon::Daemon(asio::io_context& io, ControllerPort& port, const Clock& clock, Notifier& notifier,
-               LoadedConfiguration initial, Loader reloadLoader, std::function<void()> onFinished)
+Daemon::Daemon(asio::io_context& io, loop::ControllerPort& port, WaitableClock& clock,
+               Notifier& notifier, LoadedConfiguration initial, Loader reloadLoader,
+               std::function<void()> onFinished)
     : io_(io),
       clock_(clock),
       notifier_(notifier),
       config_(std::move(initial.config)),
       loop_(port, clock, std::move(initial.model), loopSettingsFrom(config_)),
-      scheduler_(io, loopSettingsFrom(config_).period, [this] { return cycle(); }),
+      scheduler_(clock, loopSettingsFrom(config_).period, [this] { return cycle(); }),
       reloadLoader_(std::move(reloadLoader)),
       onFinished_(std::move(onFinished)) {}
 
@@ -54,8 +52,8 @@ void Daemon::start() {
   lastStatus_ = startTime_;
   spdlog::info(
       "starting: model '{}', transport {}, cycle {} ms, position semantics {}",
-      loop_.model().name(), config_.transportType, config_.cyclePeriodMs,
-      config_.positionSemantics == config::PositionSemantics::Actual ? "actual" : "commanded");
+      loop_.model().name(), config::transportType(config_.transport), config_.cyclePeriodMs,
+      config_.positionSemantics == loop::PositionSemantics::Actual ? "actual" : "commanded");
   scheduler_.start();
 }
 
@@ -120,7 +118,6 @@ void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::stri
     // Keep what only a restart changes, so that later messages compare against what runs.
     next.cyclePeriodMs = config_.cyclePeriodMs;
     next.transport = config_.transport;
-    next.transportType = config_.transportType;
     next.offsetReadback = config_.offsetReadback;
     next.plcZeroAfterMs = config_.plcZeroAfterMs;
     config_ = std::move(next);
@@ -143,7 +140,7 @@ bool Daemon::cycle() {
     notifier_.notify("READY=1");
     spdlog::info("ready: first good cycle");
   }
-  const Clock::time_point now = clock_.now();
+  const loop::Clock::time_point now = clock_.now();
   if (report.state == LoopState::Finished) {
     finished_ = true;
     notifier_.notify("STATUS=stopped");
@@ -160,13 +157,13 @@ bool Daemon::cycle() {
 
 void Daemon::logReport(const CycleReport& report) {
   lastLoggedFault_ = report.fault;
-  const std::string_view from = stateName(report.previous);
-  const std::string_view to = stateName(report.state);
+  const std::string_view from = loop::stateName(report.previous);
+  const std::string_view to = loop::stateName(report.state);
   const std::string error = report.error ? report.error.message() : std::string();
   switch (report.state) {
     case LoopState::Fault:
-      spdlog::warn("{} -> fault: {}{}{}", from, faultName(report.fault), error.empty() ? "" : ": ",
-                   error);
+      spdlog::warn("{} -> fault: {}{}{}", from, loop::faultName(report.fault),
+                   error.empty() ? "" : ": ", error);
       break;
     case LoopState::LinkLost:
       spdlog::warn("{} -> link lost{}{}; reconnecting with backoff", from,
@@ -175,7 +172,7 @@ void Daemon::logReport(const CycleReport& report) {
     case LoopState::Starting:
       if (report.fault != FaultCode::None) {
         spdlog::warn("starting: applied offsets read back are invalid ({})",
-                     faultName(report.fault));
+                     loop::faultName(report.fault));
       } else {
         spdlog::info("{} -> starting: waiting for the applied offsets", from);
       }
@@ -191,9 +188,9 @@ std::string Daemon::statusLine() const {
   std::string line = fmt::format(
       "{} {:.1f} Hz, offsets {:+.4f} {:+.4f} {:+.4f} mm, fault {}, fault cycles {}, overruns {}, "
       "link losses {}, model '{}'",
-      stateName(loop_.state()), cycleRateHz_, o[0], o[1], o[2], faultName(loop_.fault()),
-      loop_.counters().faultCycles, scheduler_.overruns(), loop_.counters().linkLosses,
-      loop_.model().name());
+      loop::stateName(loop_.state()), cycleRateHz_, o[0], o[1], o[2],
+      loop::faultName(loop_.fault()), loop_.counters().faultCycles, scheduler_.overruns(),
+      loop_.counters().linkLosses, loop_.model().name());
   if (!reloadError_.empty()) line += ", reload failed: " + reloadError_;
   // One line: a newline would start a new sd_notify assignment.
   for (char& c : line) {
@@ -202,7 +199,7 @@ std::string Daemon::statusLine() const {
   return line;
 }
 
-void Daemon::notifyPeriodic(Clock::time_point now) {
+void Daemon::notifyPeriodic(loop::Clock::time_point now) {
   if (watchdog_ && now - lastWatchdog_ >= *watchdog_ / 4) {
     notifier_.notify("WATCHDOG=1");
     lastWatchdog_ = now;

@@ -5,8 +5,7 @@
 
 namespace volcomp::daemon {
 
-NextDeadline nextDeadline(std::chrono::steady_clock::time_point deadline,
-                          std::chrono::steady_clock::time_point now,
+NextDeadline nextDeadline(loop::Clock::time_point deadline, loop::Clock::time_point now,
                           std::chrono::nanoseconds period) noexcept {
   NextDeadline next{deadline + period, 0};
   if (now < next.deadline || period.count() <= 0) return next;
@@ -16,38 +15,36 @@ NextDeadline nextDeadline(std::chrono::steady_clock::time_point deadline,
   return next;
 }
 
-PeriodicScheduler::PeriodicScheduler(asio::io_context& io, std::chrono::nanoseconds period,
+PeriodicScheduler::PeriodicScheduler(WaitableClock& clock, std::chrono::nanoseconds period,
                                      Cycle cycle)
-    : timer_(io), period_(period), cycle_(std::move(cycle)) {}
+    : clock_(clock), period_(period), cycle_(std::move(cycle)) {}
 
 void PeriodicScheduler::start() {
   running_ = true;
-  deadline_ = std::chrono::steady_clock::now();
+  deadline_ = clock_.now();
   arm();
 }
 
 void PeriodicScheduler::stop() {
   running_ = false;
-  timer_.cancel();
+  clock_.cancel();
 }
 
 void PeriodicScheduler::arm() {
-  timer_.expires_at(deadline_);
-  timer_.async_wait([this](const std::error_code& ec) { onTimer(ec); });
+  clock_.asyncWaitUntil(deadline_, [this] { onWake(); });
 }
 
-void PeriodicScheduler::onTimer(const std::error_code& ec) {
-  if (ec || !running_) return;
-  // The timer never expires early: the deadline has passed here.
-  maxWakeLateness_ = std::max(
-      maxWakeLateness_, std::chrono::nanoseconds(std::chrono::steady_clock::now() - deadline_));
+void PeriodicScheduler::onWake() {
+  if (!running_) return;
+  // The clock never wakes early: the deadline has passed here.
+  maxWakeLateness_ = std::max(maxWakeLateness_, std::chrono::nanoseconds(clock_.now() - deadline_));
   ++cycles_;
   if (!cycle_()) {
     running_ = false;
     return;
   }
   if (!running_) return;  // stopped from inside the cycle
-  const NextDeadline next = nextDeadline(deadline_, std::chrono::steady_clock::now(), period_);
+  const NextDeadline next = nextDeadline(deadline_, clock_.now(), period_);
   if (next.missed > 0) {
     ++overruns_;
     missed_ += next.missed;

@@ -16,23 +16,13 @@
 #include <memory>
 #include <string>
 
+#include "transports.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/daemon/daemon.hpp"
 #include "volcomp/daemon/notifier.hpp"
-#include "volcomp/daemon/steady_clock.hpp"
-#include "volcomp/daemon/transport_registry.hpp"
-#include "volcomp/model/types.hpp"
-
-#ifdef VOLCOMPD_HAVE_MODBUS
-#include "volcomp/modbus/controller_port.hpp"
-#endif
-#ifdef VOLCOMPD_HAVE_CAN
-#include "volcomp/can/controller_port.hpp"
-#endif
+#include "volcomp/daemon/waitable_clock.hpp"
 
 namespace {
-
-using volcomp::daemon::TransportRegistry;
 
 // journald reads a "<N>" syslog priority prefix on each stderr line (SyslogLevelPrefix=yes),
 // so under systemd the level travels as a priority instead of text.
@@ -64,49 +54,26 @@ void setUpLogging() {
   spdlog::set_default_logger(logger);
 }
 
-TransportRegistry builtInTransports() {
-  TransportRegistry registry;
-#ifdef VOLCOMPD_HAVE_MODBUS
-  const auto modbus = [](const nlohmann::json& section, const std::string& file) {
-    return volcomp::modbus::makeControllerPort(section, file, "transport");
-  };
-  registry.add("modbus-tcp", modbus);
-  registry.add("modbus-rtu", modbus);
-#endif
-#ifdef VOLCOMPD_HAVE_CAN
-  registry.add("can",
-               [](const nlohmann::json& section,
-                  const std::string& file) -> std::unique_ptr<volcomp::daemon::ControllerPort> {
-                 return volcomp::can::makeCanControllerPort(section, file, "transport");
-               });
-#endif
-  return registry;
-}
-
 int run(const std::string& configPath, bool checkOnly, bool verbose) {
   volcomp::daemon::LoadedConfiguration loaded;
-  std::unique_ptr<volcomp::daemon::ControllerPort> port;
-  const TransportRegistry registry = builtInTransports();
+  std::unique_ptr<volcomp::loop::ControllerPort> port;
   try {
     loaded = volcomp::daemon::loadConfiguration(configPath);
-    port = registry.create(loaded.config);
+    port = volcomp::volcompd::makeControllerPort(loaded.config.transport, loaded.config.file);
   } catch (const volcomp::config::ConfigError& e) {
     spdlog::error("{}", e.what());
-    return 2;
-  } catch (const volcomp::model::ModelError& e) {
-    spdlog::error("{}: model: {}", loaded.config.modelPath, e.what());
     return 2;
   }
   spdlog::set_level(verbose ? spdlog::level::debug
                             : spdlog::level::from_str(loaded.config.logLevel));
   if (checkOnly) {
     spdlog::info("{}: configuration, model '{}' and {} transport are valid", configPath,
-                 loaded.model->name(), loaded.config.transportType);
+                 loaded.model->name(), volcomp::config::transportType(loaded.config.transport));
     return 0;
   }
 
   asio::io_context io;
-  volcomp::daemon::SteadyClock clock;
+  volcomp::daemon::SteadyWaitableClock clock(io);
   volcomp::daemon::SystemdNotifier notifier;
   asio::signal_set signals(io, SIGINT, SIGTERM, SIGHUP);
   volcomp::daemon::Daemon daemon(

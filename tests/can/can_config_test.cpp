@@ -12,6 +12,7 @@
 namespace volcomp::can {
 namespace {
 
+using config::loadCanLayout;
 using nlohmann::json;
 
 json sig(int id, int start, int length, const char* type = "signed", double scale = 0.0001) {
@@ -47,7 +48,7 @@ TEST(CanConfig, ParsesAndResolvesABroadcastLayout) {
   const CanLayout layout = loadCanLayout(baseConfig(), "daemon.json", "transport");
   EXPECT_EQ(layout.interfaceName, "vcan0");
   EXPECT_FALSE(layout.fd);
-  EXPECT_EQ(layout.trigger, config::CanTrigger::Broadcast);
+  EXPECT_EQ(layout.trigger, can::Trigger::Broadcast);
   EXPECT_EQ(layout.staleTimeout, std::chrono::milliseconds(50));
   EXPECT_EQ(layout.responseTimeout, std::chrono::milliseconds(10));
   EXPECT_TRUE(layout.hasSequence);

@@ -12,10 +12,12 @@
 #include <asio/steady_timer.hpp>
 
 #include "vcan_util.hpp"
-#include "volcomp/can/can_sim_node.hpp"
 #include "volcomp/can/controller_port.hpp"
-#include "volcomp/daemon/compensation_loop.hpp"
-#include "volcomp/daemon/steady_clock.hpp"
+#include "volcomp/config/can_config.hpp"
+#include "volcomp/daemon/configuration.hpp"
+#include "volcomp/loop/compensation_loop.hpp"
+#include "volcomp/loop/steady_clock.hpp"
+#include "volcomp/sim/can_sim_node.hpp"
 #include "volcomp/sim/machine.hpp"
 #include "volcomp/sim/sim_config.hpp"
 
@@ -71,7 +73,7 @@ std::string modelFile() {
 
 struct LoopCase {
   bool sync;
-  config::PositionSemantics semantics;
+  loop::PositionSemantics semantics;
 };
 
 class CanWholeLoop : public ::testing::TestWithParam<LoopCase> {};
@@ -102,11 +104,13 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
 
   asio::io_context simIo;
   auto work = asio::make_work_guard(simIo);
-  const CanLayout layout = loadCanLayout(loopConfig(param.sync), "can-loop.json", "transport");
-  CanSimNode node(simIo, layout,
-                  {[&](double t) { return machine.inputs(t); },
-                   [&](double t, const daemon::OffsetCommand& c) { machine.onWrite(t, c); }, nowS},
-                  2ms);
+  const CanLayout layout =
+      config::loadCanLayout(loopConfig(param.sync), "can-loop.json", "transport");
+  sim::CanSimNode node(
+      simIo, layout,
+      {[&](double t) { return machine.inputs(t); },
+       [&](double t, const loop::OffsetCommand& c) { machine.onWrite(t, c); }, nowS},
+      2ms);
   ASSERT_FALSE(node.start());
   // The error statistics are sampled every 5 ms on the simulator's thread.
   asio::steady_timer sampler(simIo);
@@ -126,7 +130,7 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
   std::cout << "whole loop: simulator running" << std::endl;
 
   // The daemon side.
-  daemon::LoopSettings settings;
+  loop::LoopSettings settings;
   // SYNC waits for the answer inside the cycle: a longer period leaves room for an emulated guest.
   settings.period = param.sync ? 20ms : 10ms;
   settings.limiter.maxOffsetMm = 0.5;
@@ -134,15 +138,15 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
   settings.staleTimeout = 200ms;
   settings.offsetReadback = true;
   settings.semantics = param.semantics;
-  daemon::SteadyClock clock;
+  loop::SteadyClock clock;
   CanControllerPort port(layout);
-  daemon::CompensationLoop loop(port, clock, daemon::loadCompensationModel(modelFile()), settings);
+  loop::CompensationLoop loop(port, clock, daemon::loadCompensationModel(modelFile()), settings);
   std::uint64_t activeCycles = 0;
   auto deadline = std::chrono::steady_clock::now();
   const auto runUntil = deadline + 5s;
   while (deadline < runUntil) {
-    const daemon::CycleReport report = loop.step();
-    if (report.state == daemon::LoopState::Active) ++activeCycles;
+    const loop::CycleReport report = loop.step();
+    if (report.state == loop::LoopState::Active) ++activeCycles;
     deadline += settings.period;
     std::this_thread::sleep_until(deadline);  // the loop's own period, not test synchronisation
   }
@@ -199,8 +203,8 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
 // Broadcast with `commanded` positions, and SYNC-triggered with `actual` positions (the read-back
 // offset is subtracted before the model is evaluated).
 INSTANTIATE_TEST_SUITE_P(Triggers, CanWholeLoop,
-                         ::testing::Values(LoopCase{false, config::PositionSemantics::Commanded},
-                                           LoopCase{true, config::PositionSemantics::Actual}),
+                         ::testing::Values(LoopCase{false, loop::PositionSemantics::Commanded},
+                                           LoopCase{true, loop::PositionSemantics::Actual}),
                          [](const ::testing::TestParamInfo<LoopCase>& testInfo) {
                            return std::string(testInfo.param.sync ? "SyncActual"
                                                                   : "BroadcastCommanded");

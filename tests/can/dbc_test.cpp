@@ -1,4 +1,4 @@
-#include "volcomp/can/dbc.hpp"
+#include "volcomp/config/dbc_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,6 +6,9 @@
 
 namespace volcomp::can {
 namespace {
+
+using config::parseDbc;
+using config::readDbcFile;
 
 // A small database in the shape CANdb++ writes: the NS_ block lists SIG_VALTYPE_ as a bare
 // keyword, comments and attributes follow the messages.

@@ -24,19 +24,19 @@ json example(const std::string& name) {
 
 TEST(SimCanConfig, TheExampleResolvesWithTheDaemonsLayout) {
   const SimConfig c = loadSimConfig(kExamples + "/sim-vmc-can.json");
-  EXPECT_EQ(c.transportType, "can");
-  EXPECT_FALSE(c.modbus.has_value());
-  ASSERT_TRUE(c.can.has_value());
-  EXPECT_EQ(c.can->interfaceName, "vcan0");
-  EXPECT_EQ(c.can->trigger, config::CanTrigger::Broadcast);
+  EXPECT_EQ(config::transportType(c.transport), "can");
+  const auto* layout = std::get_if<can::CanLayout>(&c.transport);
+  ASSERT_NE(layout, nullptr);
+  EXPECT_EQ(layout->interfaceName, "vcan0");
+  EXPECT_EQ(layout->trigger, can::Trigger::Broadcast);
   // Positions (0x100), Z with the flags (0x101), the read-back (0x102); offsets + status
   // (0x300) and the heartbeat (0x301), as in vmc-can.dbc.
-  ASSERT_EQ(c.can->inputFrames.size(), 3u);
-  EXPECT_EQ(c.can->inputFrames[0].id, 0x100u);
-  ASSERT_EQ(c.can->outputFrames.size(), 2u);
-  EXPECT_EQ(c.can->outputFrames[0].id, 0x300u);
-  EXPECT_TRUE(c.can->hasSequence);
-  EXPECT_TRUE(c.can->hasAppliedOffsets);
+  ASSERT_EQ(layout->inputFrames.size(), 3u);
+  EXPECT_EQ(layout->inputFrames[0].id, 0x100u);
+  ASSERT_EQ(layout->outputFrames.size(), 2u);
+  EXPECT_EQ(layout->outputFrames[0].id, 0x300u);
+  EXPECT_TRUE(layout->hasSequence);
+  EXPECT_TRUE(layout->hasAppliedOffsets);
   // Off_X/Y/Z are int16 with scale 0.0001 mm: one count is 0.1 µm.
   for (double q : c.machine.limits.quantumMm) EXPECT_DOUBLE_EQ(q, 0.0001);
   EXPECT_DOUBLE_EQ(c.canBroadcastS, 0.001);
@@ -65,8 +65,7 @@ TEST(SimCanConfig, FloatOffsetsHaveNoQuantum) {
                                    {"Z", sig(0x311, 0, 16, "signed", 0.001)}}},
                                  {"status", sig(0x311, 16, 16, "unsigned", 1)},
                                  {"heartbeat", sig(0x311, 32, 8, "unsigned", 1)}};
-  SimConfig c = parseSimConfig(doc, kExamples + "/sim.json");
-  resolveCanTransport(c);
+  const SimConfig c = parseSimConfig(doc, kExamples + "/sim.json");
   EXPECT_EQ(c.machine.limits.quantumMm[0], 0.0);
   EXPECT_EQ(c.machine.limits.quantumMm[1], 0.0);
   EXPECT_DOUBLE_EQ(c.machine.limits.quantumMm[2], 0.001);
@@ -75,9 +74,8 @@ TEST(SimCanConfig, FloatOffsetsHaveNoQuantum) {
 TEST(SimCanConfig, ErrorsNameTheFileAndTheKeyPath) {
   json doc = example("sim-vmc-can.json");
   doc["transport"]["outputs"]["offset"]["Y"] = {{"dbc", "No_Such_Signal"}};
-  SimConfig c = parseSimConfig(doc, kExamples + "/sim.json");
   try {
-    resolveCanTransport(c);
+    parseSimConfig(doc, kExamples + "/sim.json");
     FAIL() << "an unknown DBC signal was accepted";
   } catch (const config::ConfigError& e) {
     EXPECT_EQ(e.file(), kExamples + "/sim.json");
@@ -93,7 +91,12 @@ TEST(SimCanConfig, ErrorsNameTheFileAndTheKeyPath) {
   }
   doc = example("sim-vmc-can.json");
   doc["can_broadcast_ms"] = 0.0;
-  EXPECT_THROW(parseSimConfig(doc, "sim.json"), config::ConfigError);
+  try {
+    parseSimConfig(doc, kExamples + "/sim.json");
+    FAIL() << "can_broadcast_ms 0 accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.keyPath(), "can_broadcast_ms") << e.what();
+  }
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 #include <asio/error.hpp>
 
 #include "volcomp/can/errors.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 
 namespace volcomp::can {
 namespace {
@@ -23,7 +23,7 @@ TEST(SocketErrors, InterfaceLossIsALinkError) {
   for (int e : {ENETDOWN, ENODEV, ENXIO}) {
     const std::error_code mapped = mapSocketError(sys(e));
     EXPECT_EQ(mapped, std::errc::network_down) << e;
-    EXPECT_TRUE(daemon::isLinkError(mapped)) << e;
+    EXPECT_TRUE(loop::isLinkError(mapped)) << e;
     // What Asio's socket operations actually report.
     EXPECT_EQ(mapSocketError(asioSys(e)), std::errc::network_down) << e;
   }
@@ -33,7 +33,7 @@ TEST(SocketErrors, FullTransmitQueueIsADroppedFrameNotALinkError) {
   for (int e : {ENOBUFS, EAGAIN}) {
     const std::error_code mapped = mapSocketError(sys(e));
     EXPECT_EQ(mapped, Errc::TxDropped) << e;
-    EXPECT_FALSE(daemon::isLinkError(mapped)) << e;
+    EXPECT_FALSE(loop::isLinkError(mapped)) << e;
     EXPECT_EQ(mapSocketError(asioSys(e)), Errc::TxDropped) << e;
   }
   EXPECT_EQ(mapSocketError(asio::error::would_block), Errc::TxDropped);
@@ -42,7 +42,7 @@ TEST(SocketErrors, FullTransmitQueueIsADroppedFrameNotALinkError) {
 
 TEST(SocketErrors, BusProblemsAreFaultsNotLinkErrors) {
   for (Errc e : {Errc::BusOff, Errc::ErrorPassive, Errc::StaleInput, Errc::NoResponse}) {
-    EXPECT_FALSE(daemon::isLinkError(e));
+    EXPECT_FALSE(loop::isLinkError(e));
     EXPECT_FALSE(make_error_code(e).message().empty());
     EXPECT_STREQ(make_error_code(e).category().name(), "volcomp.can");
   }

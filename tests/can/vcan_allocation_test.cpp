@@ -12,6 +12,7 @@
 #include "vcan_layout.hpp"
 #include "vcan_util.hpp"
 #include "volcomp/can/controller_port.hpp"
+#include "volcomp/config/can_config.hpp"
 
 namespace {
 std::atomic<bool> counting{false};
@@ -36,14 +37,15 @@ namespace {
 TEST(VcanAllocation, ReadAndWriteDoNotAllocateOnceRunning) {
   test::PeerSocket peer;
   ASSERT_TRUE(peer.ok());
-  auto port = makeCanControllerPort(test::testConfig(), "vcan-test.json");
+  auto port = std::make_unique<CanControllerPort>(
+      config::loadCanLayout(test::testConfig(), "vcan-test.json", "transport"));
   ASSERT_FALSE(port->connect());
   const std::vector<std::uint8_t> frame100{0x87, 0xD6, 0x12, 0xFF, 0xFF, 0xFF, 0x00, 0x00};
   const std::vector<std::uint8_t> frame101{0x60, 0xDA, 0xD9, 0xFF, 0x03, 0x00, 0x00, 0x00};
   auto f100 = frame100;
   auto f101 = frame101;
-  daemon::AxisSample sample;
-  daemon::OffsetCommand command;
+  loop::AxisSample sample;
+  loop::OffsetCommand command;
   std::size_t failures = 0;
   auto cycle = [&](std::uint8_t sequence) {
     f100[7] = sequence;

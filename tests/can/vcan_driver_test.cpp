@@ -1,6 +1,7 @@
 // The SocketCAN driver on a real (virtual) CAN interface, against a peer socket written with
 // plain SocketCAN calls. Needs a kernel with vcan (run by run_vcan_tests.sh, in QEMU if need be).
 #include "volcomp/can/controller_port.hpp"
+#include "volcomp/config/can_config.hpp"
 
 #include <linux/can/error.h>
 
@@ -45,7 +46,8 @@ class VcanDriver : public ::testing::Test {
   void TearDown() override { test::setInterfaceUp(test::interfaceName(), true); }
 
   std::unique_ptr<CanControllerPort> makePort(const nlohmann::json& config) {
-    auto port = makeCanControllerPort(config, "vcan-test.json");
+    auto port = std::make_unique<CanControllerPort>(
+        config::loadCanLayout(config, "vcan-test.json", "transport"));
     EXPECT_FALSE(port->connect());
     return port;
   }
@@ -60,7 +62,7 @@ class VcanDriver : public ::testing::Test {
 TEST_F(VcanDriver, ReadsACompleteBroadcastSetFromTheWire) {
   auto port = makePort(test::testConfig());
   sendSet(5);
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   ASSERT_FALSE(port->read(sample));
   EXPECT_NEAR(sample.positionMm[0], 123.4567, 1e-9);
   EXPECT_NEAR(sample.positionMm[1], -0.0001, 1e-12);
@@ -76,7 +78,7 @@ TEST_F(VcanDriver, ReadsACompleteBroadcastSetFromTheWire) {
 
 TEST_F(VcanDriver, WritesAllOutputFramesWithTheExpectedBytes) {
   auto port = makePort(test::testConfig());
-  daemon::OffsetCommand command;
+  loop::OffsetCommand command;
   command.offsetMm = {0.012, -0.002, 0.25};
   command.status = 0x1009;
   command.heartbeat = 300;
@@ -104,7 +106,7 @@ TEST_F(VcanDriver, OnlyFramesWithTheSameSequenceFormASet) {
   auto port = makePort(test::testConfig());
   ASSERT_TRUE(peer.send(0x100, withSequence(kFrame100, 5)));
   ASSERT_TRUE(peer.send(0x101, withSequence(kFrame101, 6)));
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   EXPECT_EQ(port->read(sample), Errc::StaleInput);  // waits the stale timeout for a first set
   EXPECT_EQ(port->stats().completeSets, 0u);
   EXPECT_GE(port->stats().discardedFrames, 1u);
@@ -116,7 +118,7 @@ TEST_F(VcanDriver, OnlyFramesWithTheSameSequenceFormASet) {
 
 TEST_F(VcanDriver, StaleSetsAreRefused) {
   auto port = makePort(test::testConfig("broadcast", 50.0));
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   // Like a controller, keep sending until the driver has a set (a loaded machine may take longer
   // than the 50 ms stale timeout between one send and the next read).
   auto sendUntilRead = [&](std::uint8_t sequence) {
@@ -139,13 +141,13 @@ TEST_F(VcanDriver, MalformedAndShortFramesAreIgnoredAndCounted) {
   ASSERT_TRUE(peer.send(0x101 | CAN_RTR_FLAG, {}));  // remote request: filtered by the kernel
   ASSERT_TRUE(peer.send(0x555, {1, 2, 3}));          // not an input: filtered by the kernel
   ASSERT_TRUE(test::waitFor([&] {
-    daemon::AxisSample ignored;
+    loop::AxisSample ignored;
     port->read(ignored);
     return port->stats().malformedFrames == 2;
   }));
   EXPECT_EQ(port->stats().completeSets, 0u);
   sendSet(7);
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   ASSERT_TRUE(test::waitFor([&] { return !port->read(sample); }));
   EXPECT_EQ(sample.sequence, 7);
   EXPECT_NEAR(sample.positionMm[0], 123.4567, 1e-9);
@@ -155,13 +157,13 @@ TEST_F(VcanDriver, MalformedAndShortFramesAreIgnoredAndCounted) {
 TEST_F(VcanDriver, BusOffErrorFrameIsAFaultUntilRestart) {
   auto port = makePort(test::testConfig());
   sendSet(1);
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   ASSERT_FALSE(port->read(sample));
   ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_BUSOFF, std::vector<std::uint8_t>(8, 0)));
   ASSERT_TRUE(test::waitFor([&] { return port->read(sample) == Errc::BusOff; }));
-  EXPECT_FALSE(daemon::isLinkError(Errc::BusOff));
+  EXPECT_FALSE(loop::isLinkError(Errc::BusOff));
   EXPECT_EQ(port->busState(), BusState::BusOff);
-  EXPECT_EQ(port->write(daemon::OffsetCommand{}), Errc::BusOff);
+  EXPECT_EQ(port->write(loop::OffsetCommand{}), Errc::BusOff);
   EXPECT_EQ(port->stats().busOffEvents, 1u);
   ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_RESTARTED, std::vector<std::uint8_t>(8, 0)));
   sendSet(2);
@@ -175,11 +177,11 @@ TEST_F(VcanDriver, ErrorPassiveIsAFaultButOffsetsCanStillBeWritten) {
   std::vector<std::uint8_t> details(8, 0);
   details[1] = CAN_ERR_CRTL_TX_PASSIVE;
   ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_CRTL, details));
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   ASSERT_TRUE(test::waitFor([&] { return port->read(sample) == Errc::ErrorPassive; }));
   EXPECT_EQ(port->stats().errorPassiveEvents, 1u);
   // The daemon ramps the offsets to zero in fault: writing must still work.
-  EXPECT_FALSE(port->write(daemon::OffsetCommand{}));
+  EXPECT_FALSE(port->write(loop::OffsetCommand{}));
   details[1] = CAN_ERR_CRTL_ACTIVE;
   ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_CRTL, details));
   sendSet(3);
@@ -190,17 +192,17 @@ TEST_F(VcanDriver, ErrorPassiveIsAFaultButOffsetsCanStillBeWritten) {
 TEST_F(VcanDriver, InterfaceDownIsALinkErrorAndRecoveryWorks) {
   auto port = makePort(test::testConfig());
   sendSet(1);
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   ASSERT_FALSE(port->read(sample));
   ASSERT_TRUE(test::setInterfaceUp(test::interfaceName(), false));
   std::error_code ec;
   ASSERT_TRUE(test::waitFor([&] {
     ec = port->read(sample);
-    return daemon::isLinkError(ec);
+    return loop::isLinkError(ec);
   }));
   EXPECT_EQ(ec, std::errc::network_down);
   EXPECT_FALSE(port->connected());
-  EXPECT_EQ(port->write(daemon::OffsetCommand{}), std::errc::not_connected);
+  EXPECT_EQ(port->write(loop::OffsetCommand{}), std::errc::not_connected);
   // While the interface is down, reconnecting fails as a link error (the loop backs off).
   EXPECT_EQ(port->connect(), std::errc::network_down);
   EXPECT_GE(port->stats().linkErrors, 1u);
@@ -216,15 +218,16 @@ TEST_F(VcanDriver, InterfaceDownIsALinkErrorAndRecoveryWorks) {
   ASSERT_TRUE(freshPeer.send(0x101, withSequence(kFrame101, 9)));
   ASSERT_TRUE(test::waitFor([&] { return !port->read(sample); }));
   EXPECT_EQ(sample.sequence, 9);
-  EXPECT_FALSE(port->write(daemon::OffsetCommand{}));
+  EXPECT_FALSE(port->write(loop::OffsetCommand{}));
 }
 
 TEST_F(VcanDriver, MissingInterfaceIsALinkError) {
   nlohmann::json c = test::testConfig();
   c["interface"] = "vcan-missing";
-  auto port = makeCanControllerPort(c, "vcan-test.json");
+  auto port =
+      std::make_unique<CanControllerPort>(config::loadCanLayout(c, "vcan-test.json", "transport"));
   EXPECT_EQ(port->connect(), std::errc::network_down);
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   EXPECT_EQ(port->read(sample), std::errc::not_connected);
 }
 
@@ -232,7 +235,7 @@ TEST_F(VcanDriver, MissingInterfaceIsALinkError) {
 class NodeThread {
  public:
   explicit NodeThread(const nlohmann::json& config)
-      : node_(io_, loadCanLayout(config, "vcan-test.json", "transport")) {}
+      : node_(io_, config::loadCanLayout(config, "vcan-test.json", "transport")) {}
   ~NodeThread() { stop(); }
   std::error_code start() {
     const std::error_code ec = node_.open();
@@ -245,13 +248,13 @@ class NodeThread {
     if (thread_.joinable()) thread_.join();
   }
   CanControllerNode& node() { return node_; }
-  daemon::OffsetCommand lastCommand() {
+  loop::OffsetCommand lastCommand() {
     std::lock_guard lock(mutex_);
     return last_;
   }
   std::uint64_t commands() const { return commands_; }
   void watchCommands() {
-    node_.setCommandHandler([this](const daemon::OffsetCommand& c) {
+    node_.setCommandHandler([this](const loop::OffsetCommand& c) {
       std::lock_guard lock(mutex_);
       last_ = c;
       ++commands_;
@@ -264,13 +267,13 @@ class NodeThread {
   CanControllerNode node_;
   std::thread thread_;
   std::mutex mutex_;
-  daemon::OffsetCommand last_;
+  loop::OffsetCommand last_;
   std::atomic<std::uint64_t> commands_{0};
 };
 
 TEST_F(VcanDriver, SyncTriggerAsksTheNodeAndWaitsForItsAnswer) {
   NodeThread controller(test::testConfig("sync"));
-  daemon::AxisSample truth;
+  loop::AxisSample truth;
   truth.positionMm = {10.5, -20.25, 300.0};
   truth.enable = true;
   truth.homed = false;
@@ -281,7 +284,7 @@ TEST_F(VcanDriver, SyncTriggerAsksTheNodeAndWaitsForItsAnswer) {
 
   auto port = makePort(test::testConfig("sync"));
   for (int cycle = 0; cycle < 3; ++cycle) {
-    daemon::AxisSample sample;
+    loop::AxisSample sample;
     ASSERT_FALSE(port->read(sample)) << cycle;
     EXPECT_NEAR(sample.positionMm[0], 10.5, 1e-9);
     EXPECT_NEAR(sample.positionMm[1], -20.25, 1e-9);
@@ -289,14 +292,14 @@ TEST_F(VcanDriver, SyncTriggerAsksTheNodeAndWaitsForItsAnswer) {
     EXPECT_TRUE(sample.enable);
     EXPECT_FALSE(sample.homed);
     EXPECT_EQ(sample.sequence, 40 + cycle);
-    daemon::OffsetCommand command;
+    loop::OffsetCommand command;
     command.offsetMm = {0.001 * cycle, -0.005, 0.1};
     command.status = static_cast<std::uint16_t>(cycle);
     command.heartbeat = static_cast<std::uint16_t>(cycle + 1);
     ASSERT_FALSE(port->write(command));
     ASSERT_TRUE(test::waitFor(
         [&] { return controller.commands() == static_cast<std::uint64_t>(cycle + 1); }));
-    const daemon::OffsetCommand seen = controller.lastCommand();
+    const loop::OffsetCommand seen = controller.lastCommand();
     EXPECT_NEAR(seen.offsetMm[0], 0.001 * cycle, 1e-12);
     EXPECT_NEAR(seen.offsetMm[1], -0.005, 1e-12);
     EXPECT_NEAR(seen.offsetMm[2], 0.1, 1e-12);
@@ -304,7 +307,7 @@ TEST_F(VcanDriver, SyncTriggerAsksTheNodeAndWaitsForItsAnswer) {
     EXPECT_EQ(seen.heartbeat, cycle + 1);
   }
   controller.stop();
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   EXPECT_EQ(port->read(sample), Errc::NoResponse);  // nobody answers the SYNC any more
 }
 
@@ -322,10 +325,10 @@ TEST_F(VcanDriver, CanFdFramesBothWays) {
   frame101[8] = 0x02;
   ASSERT_TRUE(peer.sendFd(0x100, withSequence(kFrame100, 4)));
   ASSERT_TRUE(peer.sendFd(0x101, frame101));
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   ASSERT_FALSE(port->read(sample));
   EXPECT_NEAR(sample.positionMm[2], 0.0002, 1e-12);
-  ASSERT_FALSE(port->write(daemon::OffsetCommand{}));
+  ASSERT_FALSE(port->write(loop::OffsetCommand{}));
   std::size_t mtu = 0;
   std::optional<canfd_frame> out;
   ASSERT_TRUE(test::waitFor([&] {
@@ -339,15 +342,16 @@ TEST_F(VcanDriver, CanFdFramesBothWays) {
 TEST_F(VcanDriver, ControllerNodeBroadcastRoundTrip) {
   // The node only sends here, so its io_context need not run.
   asio::io_context io;
-  CanControllerNode node(io, loadCanLayout(test::testConfig(), "vcan-test.json", "transport"));
+  CanControllerNode node(io,
+                         config::loadCanLayout(test::testConfig(), "vcan-test.json", "transport"));
   ASSERT_FALSE(node.open());
   auto port = makePort(test::testConfig());
-  daemon::AxisSample truth;
+  loop::AxisSample truth;
   truth.positionMm = {-1.2345, 0.0, 700.0001};
   truth.enable = false;
   truth.homed = true;
   ASSERT_FALSE(node.publish(truth, 258));  // the 8-bit counter carries 258 % 256 = 2
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   ASSERT_FALSE(port->read(sample));
   EXPECT_NEAR(sample.positionMm[0], -1.2345, 1e-9);
   EXPECT_NEAR(sample.positionMm[2], 700.0001, 1e-9);

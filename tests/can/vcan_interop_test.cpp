@@ -2,6 +2,7 @@
 // writes are decoded by `candump`, frames injected with `cansend` are understood by the driver.
 // The layout comes from a DBC with 29-bit identifiers and Motorola (big-endian) signals.
 #include "volcomp/can/controller_port.hpp"
+#include "volcomp/config/can_config.hpp"
 
 #include <unistd.h>
 #include <filesystem>
@@ -60,7 +61,8 @@ class CanUtilsInterop : public ::testing::Test {
            {{"X", {{"dbc", "OffX"}}}, {"Y", {{"dbc", "OffY"}}}, {"Z", {{"dbc", "OffZ"}}}}},
           {"status", {{"dbc", "Status"}}},
           {"heartbeat", {{"dbc", "Heartbeat"}}}}}};
-    port_ = makeCanControllerPort(config, dir_ + "/daemon.json");
+    port_ = std::make_unique<CanControllerPort>(
+        config::loadCanLayout(config, dir_ + "/daemon.json", "transport"));
     ASSERT_FALSE(port_->connect());
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
@@ -77,7 +79,7 @@ TEST_F(CanUtilsInterop, CansendFramesAreUnderstood) {
   const std::string iface = test::interfaceName();
   ASSERT_EQ(test::run("cansend " + iface + " 00000100#12D687FFFFFF0005"), 0);
   ASSERT_EQ(test::run("cansend " + iface + " 00000101#FFD9DA60C0000005"), 0);
-  daemon::AxisSample sample;
+  loop::AxisSample sample;
   ASSERT_FALSE(port_->read(sample));
   EXPECT_NEAR(sample.positionMm[0], 123.4567, 1e-9);
   EXPECT_NEAR(sample.positionMm[1], -0.0001, 1e-12);
@@ -103,7 +105,7 @@ TEST_F(CanUtilsInterop, WrittenFramesAreDecodedByCandump) {
   test::OutputReader candump("candump -L " + test::interfaceName() +
                              ",00000300:1FFFFFFF,00000301:1FFFFFFF");
   ASSERT_TRUE(candump.ok());
-  daemon::OffsetCommand command;
+  loop::OffsetCommand command;
   command.offsetMm = {0.012, -0.002, 0.25};
   command.status = 0x1009;
   command.heartbeat = 300;

@@ -41,6 +41,14 @@ TEST(JsonText, NumberOverflowNamesLineAndColumn) {
   EXPECT_NE(std::string(e.what()).find("out of the range of a double"), std::string::npos);
 }
 
+TEST(JsonText, NumberOverflowIsLocatedAsAWholeNumberOutsideStrings) {
+  // The same digits inside a string and as the tail of a finite number come first.
+  const ConfigError e = errorOf(
+      [] { parseJsonText("{\"s\": \"1e309\", \"a\": 0.1e309,\n \"b\": 1e309}", "f.json"); });
+  EXPECT_NE(std::string(e.what()).find("line 2, column 7"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("1e309"), std::string::npos) << e.what();
+}
+
 TEST(JsonText, DuplicateKeyNamesItsPath) {
   const ConfigError e =
       errorOf([] { parseJsonText(R"({"a": {"b": [1, {"c": 1, "c": 2}]}})", "f.json"); });

@@ -11,6 +11,7 @@
 namespace volcomp::config {
 namespace {
 
+using loop::PositionSemantics;
 using nlohmann::json;
 
 json minimal() {
@@ -18,8 +19,31 @@ json minimal() {
     "position_semantics": "commanded",
     "limiter": {"max_offset_mm": 0.5, "max_rate_mm_s": 1.0},
     "model": "model.json",
-    "transport": {"type": "modbus-tcp", "host": "127.0.0.1", "port": 1502}
+    "transport": {"type": "modbus-tcp", "host": "127.0.0.1", "port": 1502, "registers": {
+      "position": {"X": {"address": 0}, "Y": {"address": 2}, "Z": {"address": 4}},
+      "enable": {"address": 6, "bit": 0}, "homed": {"address": 6, "bit": 1},
+      "offset": {"X": {"address": 8}, "Y": {"address": 10}, "Z": {"address": 12}},
+      "status": 14, "heartbeat": 15}}
   })");
+}
+
+/// A CAN section with one input frame (0x100) and two output frames (0x300, 0x301).
+json canTransport() {
+  return json::parse(R"({"type": "can", "interface": "can0", "trigger": "broadcast",
+    "inputs": {
+      "position": {
+        "X": {"id": 256, "start_bit": 0, "length": 16, "type": "signed", "scale": 0.001},
+        "Y": {"id": 256, "start_bit": 16, "length": 16, "type": "signed", "scale": 0.001},
+        "Z": {"id": 256, "start_bit": 32, "length": 16, "type": "signed", "scale": 0.001}},
+      "enable": {"id": 256, "start_bit": 48, "length": 1},
+      "homed": {"id": 256, "start_bit": 49, "length": 1}},
+    "outputs": {
+      "offset": {
+        "X": {"id": 768, "start_bit": 0, "length": 16, "type": "signed", "scale": 0.001},
+        "Y": {"id": 768, "start_bit": 16, "length": 16, "type": "signed", "scale": 0.001},
+        "Z": {"id": 768, "start_bit": 32, "length": 16, "type": "signed", "scale": 0.001}},
+      "status": {"id": 768, "start_bit": 48, "length": 16},
+      "heartbeat": {"id": 769, "start_bit": 0, "length": 8}}})");
 }
 
 // Expects a ConfigError at `path` whose message contains `fragment`.
@@ -51,19 +75,23 @@ TEST(DaemonConfig, MinimalFileGetsTheDefaults) {
   EXPECT_DOUBLE_EQ(c.reconnect.initialMs, 100.0);
   EXPECT_DOUBLE_EQ(c.reconnect.maxMs, 2000.0);
   EXPECT_EQ(c.logLevel, "info");
-  EXPECT_EQ(c.transportType, "modbus-tcp");
-  EXPECT_EQ(c.transport.at("port"), 1502);  // kept raw for the driver
+  EXPECT_EQ(transportType(c.transport), "modbus-tcp");
+  // Read into the driver's settings.
+  const auto& settings = std::get<modbus::ModbusSettings>(c.transport);
+  EXPECT_EQ(std::get<modbus::TcpLink>(settings.link).port, 1502);
+  EXPECT_EQ(settings.registers.heartbeatAddress, 15);
 }
 
 TEST(DaemonConfig, EveryKeyIsRead) {
-  const json doc = json::parse(R"({
+  json doc = json::parse(R"({
     "cycle_period_ms": 4, "position_semantics": "actual",
     "limiter": {"max_offset_mm": 0.2, "max_rate_mm_s": 2, "max_accel_mm_s2": 50},
     "stale_timeout_ms": 40, "frozen_positions_are_stale": true, "travel_margin_mm": 0.5,
     "direction_hysteresis_mm": 0.01, "offset_readback": false, "plc_zero_after_ms": 300,
     "model": "/opt/models/m.json", "reconnect": {"initial_ms": 50, "max_ms": 1000},
-    "log_level": "debug", "transport": {"type": "can", "interface": "can0"}
+    "log_level": "debug"
   })");
+  doc["transport"] = canTransport();
   const DaemonConfig c = parseDaemonConfig(doc, "conf/d.json");
   EXPECT_DOUBLE_EQ(c.cyclePeriodMs, 4.0);
   EXPECT_EQ(c.positionSemantics, PositionSemantics::Actual);
@@ -78,7 +106,18 @@ TEST(DaemonConfig, EveryKeyIsRead) {
   EXPECT_DOUBLE_EQ(c.reconnect.initialMs, 50.0);
   EXPECT_DOUBLE_EQ(c.reconnect.maxMs, 1000.0);
   EXPECT_EQ(c.logLevel, "debug");
-  EXPECT_EQ(c.transportType, "can");
+  EXPECT_EQ(transportType(c.transport), "can");
+  EXPECT_EQ(std::get<can::CanLayout>(c.transport).interfaceName, "can0");
+}
+
+TEST(DaemonConfig, TransportErrorsNameTheDaemonFileAndTheTransportKeyPath) {
+  json doc = minimal();
+  doc["transport"]["registers"]["heartbeat"] = 4;  // on position Z
+  expectError(doc, "transport.registers.heartbeat", "overlaps");
+  doc = minimal();
+  doc["transport"] = canTransport();
+  doc["transport"]["outputs"]["status"]["length"] = 8;
+  expectError(doc, "transport.outputs.status", "16 bits");
 }
 
 TEST(DaemonConfig, RejectsUnknownKeys) {

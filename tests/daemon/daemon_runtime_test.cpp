@@ -1,7 +1,7 @@
 // The daemon around the loop: sd_notify against a real NOTIFY_SOCKET, readiness, watchdog pings
-// from the cycle, status lines, stop with ramp-out, and reloads (good and rejected). The
-// io_context runs on the test thread in short slices until a condition holds or a timeout
-// expires; nothing sleeps.
+// from the cycle, status lines, stop with ramp-out, and reloads (good and rejected). The daemon
+// runs in simulated time (SimulatedClock): the io_context runs on the test thread in short slices
+// until a condition holds or a timeout expires, and no cycle waits for real.
 #include "volcomp/daemon/daemon.hpp"
 
 #include <gtest/gtest.h>
@@ -15,13 +15,18 @@
 
 #include "fakes.hpp"
 #include "notify_socket.hpp"
+#include "simulated_clock.hpp"
 #include "volcomp/config/config_error.hpp"
-#include "volcomp/daemon/steady_clock.hpp"
 
 namespace volcomp::daemon::testing {
 namespace {
 
 using namespace std::chrono_literals;
+using loop::LoopState;
+using loop::OffsetCommand;
+using loop::testing::FakeModel;
+using loop::testing::FakePort;
+namespace status = loop::status;
 
 class RecordingNotifier final : public Notifier {
  public:
@@ -46,18 +51,19 @@ config::DaemonConfig testConfig() {
   c.limiter.maxRateMmS = 5.0;  // 0.01 mm per 2 ms cycle
   c.staleTimeoutMs = 100.0;
   c.modelPath = "model.json";
-  c.transportType = "modbus-tcp";
-  c.transport = nlohmann::json::object();
   return c;
 }
 
-// Runs `io` in slices until `done()` or the timeout; returns done().
+// Runs `io` one handler at a time until `done()` holds after one, or the real-time timeout;
+// returns done(). One at a time, because in simulated time the daemon cycles as fast as the CPU
+// runs it: a condition is seen as soon as it holds, and a listener drained in `done()` never
+// falls behind the daemon's sd_notify datagrams.
 bool runUntil(asio::io_context& io, const std::function<bool()>& done,
               std::chrono::milliseconds timeout = 10s) {
   const auto until = std::chrono::steady_clock::now() + timeout;
   while (!done() && std::chrono::steady_clock::now() < until) {
     io.restart();
-    io.run_for(2ms);
+    io.run_one_for(2ms);
   }
   return done();
 }
@@ -74,7 +80,7 @@ class DaemonTest : public ::testing::Test {
 
   asio::io_context io;
   FakePort port;
-  SteadyClock clock;
+  SimulatedClock clock{io};
   RecordingNotifier notifier;
   std::shared_ptr<FakeModel> model = std::make_shared<FakeModel>();
   std::unique_ptr<Daemon> daemon;
@@ -105,10 +111,10 @@ TEST_F(DaemonTest, StatusLineAtMostOncePerSecond) {
   daemon->start();
   ASSERT_TRUE(runUntil(
       io, [&] { return notifier.count("STATUS=") >= 1; }, 5s));
-  const auto first = std::chrono::steady_clock::now();
+  const auto first = clock.now();
   ASSERT_TRUE(runUntil(
       io, [&] { return notifier.count("STATUS=") >= 2; }, 5s));
-  EXPECT_GE(std::chrono::steady_clock::now() - first, 900ms);
+  EXPECT_GE(clock.now() - first, 900ms);
   std::string status;
   for (const auto& m : notifier.messages) {
     if (m.rfind("STATUS=", 0) == 0) status = m;
@@ -209,7 +215,7 @@ TEST(SystemdNotifier, DaemonLifecycleOverARealNotifySocket) {
   ::setenv("WATCHDOG_PID", std::to_string(::getpid()).c_str(), 1);
   asio::io_context io;
   FakePort port;
-  SteadyClock clock;
+  SimulatedClock clock(io);
   SystemdNotifier notifier;
   bool finished = false;
   Daemon daemon(

@@ -1,20 +1,21 @@
-// Absolute deadlines: the pure deadline arithmetic, then the scheduler on a real io_context
-// (a busy cycle simulates an overrun; nothing sleeps).
+// Absolute deadlines: the pure deadline arithmetic, the scheduler in simulated time (a cycle that
+// takes 3.5 periods is an overrun), and the production clock's waits on a real timer.
 #include "volcomp/daemon/scheduler.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <asio/io_context.hpp>
-#include <asio/steady_timer.hpp>
 #include <chrono>
 #include <vector>
+
+#include "simulated_clock.hpp"
 
 namespace volcomp::daemon {
 namespace {
 
 using namespace std::chrono_literals;
-using Tp = std::chrono::steady_clock::time_point;
+using Tp = loop::Clock::time_point;
 
 const Tp t0 = Tp(std::chrono::hours(10));
 
@@ -47,6 +48,7 @@ TEST(NextDeadline, EndingExactlyAtTheNextDeadlineCountsAsOneMissed) {
 
 TEST(PeriodicScheduler, RunsOnAbsoluteDeadlinesAndCountsOverruns) {
   asio::io_context io;
+  testing::SimulatedClock clock(io);
   constexpr auto period = 2ms;
   struct Seen {
     Tp deadline;
@@ -58,32 +60,17 @@ TEST(PeriodicScheduler, RunsOnAbsoluteDeadlinesAndCountsOverruns) {
   // cycles saw.
   std::chrono::nanoseconds latestSeen{0};
   PeriodicScheduler* self = nullptr;
-  PeriodicScheduler scheduler(io, period, [&] {
-    seen.push_back({self->deadline(), std::chrono::steady_clock::now()});
-    if (seen.size() == 5) {
-      // A slow cycle: busy for 3.5 periods.
-      const auto until = std::chrono::steady_clock::now() + 7ms;
-      while (std::chrono::steady_clock::now() < until) {
-      }
-    }
+  PeriodicScheduler scheduler(clock, period, [&] {
+    seen.push_back({self->deadline(), clock.now()});
+    if (seen.size() == 5) clock.advance(7ms);  // a slow cycle: 3.5 periods
     return seen.size() < 30;
   });
   self = &scheduler;
-  // Guard: fail rather than hang if the schedule never ends.
-  asio::steady_timer guard(io, 20s);
-  bool timedOut = false;
-  guard.async_wait([&](const std::error_code& ec) {
-    if (!ec) {
-      timedOut = true;
-      io.stop();
-    }
-  });
   scheduler.start();
-  while (scheduler.running() && !timedOut) io.run_one();
-  guard.cancel();
-  ASSERT_FALSE(timedOut);
+  io.run();  // returns once the schedule has ended (nothing else is queued)
   ASSERT_EQ(seen.size(), 30u);
   EXPECT_EQ(scheduler.cycles(), 30u);
+  EXPECT_FALSE(scheduler.running());
 
   const Tp first = seen.front().deadline;
   for (std::size_t i = 0; i < seen.size(); ++i) {
@@ -97,11 +84,51 @@ TEST(PeriodicScheduler, RunsOnAbsoluteDeadlinesAndCountsOverruns) {
   }
   EXPECT_GE(scheduler.maxWakeLateness(), 0ns);
   EXPECT_LE(scheduler.maxWakeLateness(), latestSeen);
-  // The slow cycle made at least 3 deadlines pass: skipped and counted, not made up for.
-  EXPECT_GE(scheduler.overruns(), 1u);
-  EXPECT_GE(scheduler.missedDeadlines(), 3u);
+  // The slow cycle made 3 deadlines pass: skipped and counted, not made up for.
+  EXPECT_EQ(scheduler.overruns(), 1u);
+  EXPECT_EQ(scheduler.missedDeadlines(), 3u);
   const auto gridSteps = (seen.back().deadline - first) / period;
   EXPECT_EQ(static_cast<std::uint64_t>(gridSteps), 29u + scheduler.missedDeadlines());
+}
+
+TEST(PeriodicScheduler, StopDropsThePendingWait) {
+  asio::io_context io;
+  testing::SimulatedClock clock(io);
+  int cycles = 0;
+  PeriodicScheduler scheduler(clock, 1ms, [&] { return ++cycles < 100; });
+  scheduler.start();
+  io.run_one();  // the first cycle, which arms the next wait
+  scheduler.stop();
+  io.run();
+  EXPECT_EQ(cycles, 1);
+  EXPECT_FALSE(scheduler.running());
+}
+
+// The production clock waits on a real asio::steady_timer: this one needs real time (a few ms).
+TEST(SteadyWaitableClock, WakesOnTheIoThreadNotBeforeTheDeadline) {
+  asio::io_context io;
+  SteadyWaitableClock clock(io);
+  std::vector<std::chrono::nanoseconds> early;
+  int wakes = 0;
+  for (int i = 0; i < 3; ++i) {
+    const Tp deadline = clock.now() + 1ms;
+    clock.asyncWaitUntil(deadline, [&, deadline] {
+      ++wakes;
+      early.push_back(std::max(0ns, std::chrono::nanoseconds(deadline - clock.now())));
+    });
+    io.restart();
+    io.run();
+  }
+  EXPECT_EQ(wakes, 3);
+  for (auto e : early) EXPECT_EQ(e, 0ns);
+
+  // A cancelled wait never runs its handler.
+  bool woke = false;
+  clock.asyncWaitUntil(clock.now() + 1ms, [&] { woke = true; });
+  clock.cancel();
+  io.restart();
+  io.run();
+  EXPECT_FALSE(woke);
 }
 
 }  // namespace

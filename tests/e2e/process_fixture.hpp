@@ -37,7 +37,7 @@ inline const std::string kSimPath = VOLCOMP_SIM_PATH;
 inline const std::string kDaemonPath = VOLCOMPD_PATH;
 inline const std::string kExamplesDir = VOLCOMP_EXAMPLES_DIR;
 
-// Status word bits (daemon/include/volcomp/daemon/status.hpp), as the controller sees them.
+// Status word bits (daemon/include/volcomp/loop/status.hpp), as the controller sees them.
 inline constexpr unsigned kActive = 1u << 0;
 inline constexpr unsigned kDisabled = 1u << 1;
 inline constexpr unsigned kFault = 1u << 2;

@@ -1,21 +1,19 @@
 # Whole-process tests: volcomp-sim and volcompd as processes, ports/ptys chosen at run time,
 # synchronised on pipes, log files, sd_notify datagrams and process exit (label modbus).
 # Included from tests/e2e/CMakeLists.txt.
-if(TARGET volcompd AND TARGET volcomp-sim)
-  add_executable(volcomp_e2e_process_tests
-    compensation_e2e_test.cpp
-    safety_e2e_test.cpp
-    lifecycle_e2e_test.cpp)
-  target_link_libraries(volcomp_e2e_process_tests PRIVATE nlohmann_json::nlohmann_json
-                        volcomp_testutil volcomp_warnings)
-  target_compile_definitions(volcomp_e2e_process_tests PRIVATE
-    VOLCOMP_SIM_PATH="$<TARGET_FILE:volcomp-sim>"
-    VOLCOMPD_PATH="$<TARGET_FILE:volcompd>"
-    VOLCOMP_EXAMPLES_DIR="${PROJECT_SOURCE_DIR}/config/examples")
-  add_dependencies(volcomp_e2e_process_tests volcompd volcomp-sim)
-  # Each case runs its own processes for a few seconds; RUN_SERIAL keeps timings honest on a
-  # 2-core machine (a starved daemon would look like a slow controller).
-  gtest_discover_tests(volcomp_e2e_process_tests
-    PROPERTIES LABELS modbus TIMEOUT 60 RUN_SERIAL TRUE
-    DISCOVERY_TIMEOUT 30)
-endif()
+add_executable(volcomp_e2e_process_tests
+  compensation_e2e_test.cpp
+  safety_e2e_test.cpp
+  lifecycle_e2e_test.cpp)
+target_link_libraries(volcomp_e2e_process_tests PRIVATE nlohmann_json::nlohmann_json
+                      volcomp_testutil volcomp_warnings)
+target_compile_definitions(volcomp_e2e_process_tests PRIVATE
+  VOLCOMP_SIM_PATH="$<TARGET_FILE:volcomp-sim>"
+  VOLCOMPD_PATH="$<TARGET_FILE:volcompd>"
+  VOLCOMP_EXAMPLES_DIR="${PROJECT_SOURCE_DIR}/config/examples")
+add_dependencies(volcomp_e2e_process_tests volcompd volcomp-sim)
+# Each case runs its own processes for a few seconds; RUN_SERIAL keeps timings honest on a
+# 2-core machine (a starved daemon would look like a slow controller).
+gtest_discover_tests(volcomp_e2e_process_tests
+  PROPERTIES LABELS modbus TIMEOUT 60 RUN_SERIAL TRUE
+  DISCOVERY_TIMEOUT 30)

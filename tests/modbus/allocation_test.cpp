@@ -17,8 +17,8 @@ namespace {
 using CountAllocations = volcomp::testutil::AllocationScope;
 
 void cycles(modbus::ModbusControllerPort& port, int n) {
-  daemon::AxisSample s;
-  daemon::OffsetCommand c;
+  loop::AxisSample s;
+  loop::OffsetCommand c;
   for (int i = 0; i < n; ++i) {
     ASSERT_FALSE(port.read(s));
     c.offsetMm = {1e-4 * (i % 7), -1e-4 * (i % 5), 0.0};
@@ -58,7 +58,7 @@ TEST(ModbusAllocations, FailedTransactionsDoNotAllocate) {
   }
   auto lb = Loopback::tcp({100, 200, -50});
   ASSERT_FALSE(lb->port->connect());
-  daemon::AxisSample s;
+  loop::AxisSample s;
   lb->machine.exception(lb->now(), 4, 0.0);
   ASSERT_EQ(lb->port->read(s), modbus::Errc::server_device_failure);  // warm-up
   std::uint64_t n = 0;
@@ -66,7 +66,7 @@ TEST(ModbusAllocations, FailedTransactionsDoNotAllocate) {
     CountAllocations counting;
     for (int i = 0; i < 50; ++i) {
       if (lb->port->read(s) != modbus::Errc::server_device_failure) ADD_FAILURE();
-      if (lb->port->write(daemon::OffsetCommand{}) != modbus::Errc::server_device_failure) {
+      if (lb->port->write(loop::OffsetCommand{}) != modbus::Errc::server_device_failure) {
         ADD_FAILURE();
       }
     }

@@ -43,24 +43,25 @@ struct Loopback {
   static std::unique_ptr<Loopback> tcp(const sim::Vec3& at, const sim::MachineOptions& options = {},
                                        bool fc23 = false) {
     auto lb = std::make_unique<Loopback>(at, options);
-    const auto cfg = config::parseModbusConfig(tcpTransportJson(1, fc23), "test", "transport");
+    const auto cfg = config::parseModbusSettings(tcpTransportJson(1, fc23), "test", "transport");
     lb->server = std::make_unique<sim::ModbusServer>(cfg.registers, cfg.slaveId, lb->machine,
                                                      [c = lb->clock] { return c(); });
     lb->server->startTcp(0);
-    lb->port = std::make_unique<modbus::ModbusControllerPort>(
-        config::parseModbusConfig(tcpTransportJson(lb->server->port(), fc23), "test", "transport"));
+    lb->port = std::make_unique<modbus::ModbusControllerPort>(config::parseModbusSettings(
+        tcpTransportJson(lb->server->port(), fc23), "test", "transport"));
     return lb;
   }
 
   static std::unique_ptr<Loopback> rtu(const sim::Vec3& at,
                                        const sim::MachineOptions& options = {}) {
     auto lb = std::make_unique<Loopback>(at, options);
-    const auto cfg = config::parseModbusConfig(rtuTransportJson("/dev/null"), "test", "transport");
+    const auto cfg =
+        config::parseModbusSettings(rtuTransportJson("/dev/null"), "test", "transport");
     lb->server = std::make_unique<sim::ModbusServer>(cfg.registers, cfg.slaveId, lb->machine,
                                                      [c = lb->clock] { return c(); });
     lb->server->startRtu();
-    lb->port = std::make_unique<modbus::ModbusControllerPort>(
-        config::parseModbusConfig(rtuTransportJson(lb->server->devicePath()), "test", "transport"));
+    lb->port = std::make_unique<modbus::ModbusControllerPort>(config::parseModbusSettings(
+        rtuTransportJson(lb->server->devicePath()), "test", "transport"));
     return lb;
   }
 

@@ -4,16 +4,16 @@
 #include <gtest/gtest.h>
 
 #include "loopback_fixture.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 #include "volcomp/modbus/error.hpp"
 #include "wait_until.hpp"
 
 namespace volcomp::test {
 namespace {
 
-using daemon::AxisSample;
-using daemon::isLinkError;
-using daemon::OffsetCommand;
+using loop::AxisSample;
+using loop::isLinkError;
+using loop::OffsetCommand;
 using modbus::Errc;
 
 constexpr sim::Vec3 kAt{123.4567, -45.5, -300.25};
@@ -74,7 +74,7 @@ TEST(ModbusTcpLoopback, WritesOffsetsStatusAndHeartbeatInOneTransaction) {
 
 TEST(ModbusTcpLoopback, ActualSemanticsIncludeTheAppliedOffset) {
   sim::MachineOptions opt;
-  opt.semantics = config::PositionSemantics::Actual;
+  opt.semantics = loop::PositionSemantics::Actual;
   auto lb = Loopback::tcp(kAt, opt);
   ASSERT_FALSE(lb->port->connect());
   OffsetCommand c;
@@ -204,16 +204,17 @@ TEST(ModbusTcpLoopback, NotConnectedBeforeConnect) {
   EXPECT_EQ(lb->port->write(OffsetCommand{}), std::errc::not_connected);
 }
 
-TEST(ModbusTcpLoopback, FactoryBuildsAPortFromTheTransportSection) {
+TEST(ModbusTcpLoopback, PortFromTheParsedTransportSection) {
   auto lb = Loopback::tcp(kAt);
-  auto port = modbus::makeControllerPort(tcpTransportJson(lb->server->port()), "daemon.json");
+  auto port = std::make_unique<modbus::ModbusControllerPort>(config::parseModbusSettings(
+      tcpTransportJson(lb->server->port()), "daemon.json", "transport"));
   ASSERT_FALSE(port->connect());
   AxisSample s;
   ASSERT_FALSE(port->read(s));
   EXPECT_NEAR(s.positionMm[2], kAt[2], 1e-9);
   nlohmann::json bad = tcpTransportJson(1);
   bad["registers"]["heartbeat"] = 99;
-  EXPECT_THROW(modbus::makeControllerPort(bad, "daemon.json"), config::ConfigError);
+  EXPECT_THROW(config::parseModbusSettings(bad, "daemon.json", "transport"), config::ConfigError);
 }
 
 }  // namespace

@@ -10,8 +10,8 @@
 namespace volcomp::sim {
 namespace {
 
-daemon::OffsetCommand offsets(double x, double y, double z, std::uint16_t heartbeat = 0) {
-  daemon::OffsetCommand c;
+loop::OffsetCommand offsets(double x, double y, double z, std::uint16_t heartbeat = 0) {
+  loop::OffsetCommand c;
   c.offsetMm = {x, y, z};
   c.heartbeat = heartbeat;
   return c;
@@ -60,7 +60,7 @@ TEST(SimPath, RasterZigZagsInsideItsBox) {
 TEST(SimMachine, PositionSemantics) {
   MachineOptions opt;
   Machine commanded = standing({10, 20, 30}, opt);
-  opt.semantics = config::PositionSemantics::Actual;
+  opt.semantics = loop::PositionSemantics::Actual;
   Machine actual = standing({10, 20, 30}, opt);
   for (Machine* m : {&commanded, &actual}) m->onWrite(0.01, offsets(0.1, -0.2, 0.3));
   EXPECT_EQ(commanded.inputs(0.02).positionMm, (Vec3{10, 20, 30}));

@@ -11,14 +11,19 @@
 namespace volcomp::config {
 namespace {
 
+using modbus::RegisterTable;
+using modbus::RegisterType;
+using modbus::RtuLink;
+using modbus::TcpLink;
+using modbus::WordOrder;
 using nlohmann::json;
 using ::testing::HasSubstr;
 
-/// Expects parseModbusConfig to throw a ConfigError whose key path and message contain the given
+/// Expects parseModbusSettings to throw a ConfigError whose key path and message contain the given
 /// fragments.
 void expectRejected(const json& section, const std::string& keyPath, const std::string& message) {
   try {
-    parseModbusConfig(section, "plant.json", "transport");
+    parseModbusSettings(section, "plant.json", "transport");
     FAIL() << "accepted: " << section.dump();
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.file(), "plant.json");
@@ -32,7 +37,7 @@ json base() {
 }
 
 TEST(ModbusConfig, ParsesTheTestLayout) {
-  const ModbusConfig c = parseModbusConfig(base(), "plant.json", "transport");
+  const modbus::ModbusSettings c = parseModbusSettings(base(), "plant.json", "transport");
   const auto& tcp = std::get<TcpLink>(c.link);
   EXPECT_EQ(tcp.host, "127.0.0.1");
   EXPECT_EQ(tcp.port, 1502);
@@ -65,7 +70,7 @@ TEST(ModbusConfig, PerFieldOverridesAndRtu) {
   s["stop_bits"] = 2;
   s["registers"]["position"]["X"] = {{"address", 100},  {"table", "input"},   {"type", "float32"},
                                      {"order", "CDAB"}, {"counts_per_mm", 1}, {"sign", -1}};
-  const ModbusConfig c = parseModbusConfig(s, "plant.json", "transport");
+  const modbus::ModbusSettings c = parseModbusSettings(s, "plant.json", "transport");
   const auto& rtu = std::get<RtuLink>(c.link);
   EXPECT_EQ(rtu.device, "/dev/ttyUSB0");
   EXPECT_EQ(rtu.parity, 'E');
@@ -86,7 +91,7 @@ TEST(ModbusConfig, PerFieldOverridesAndRtu) {
 TEST(ModbusConfig, AppliedOffsetMayReadBackTheOutputsThemselves) {
   json s = base();
   s["registers"]["applied_offset"] = s["registers"]["offset"];
-  EXPECT_NO_THROW(parseModbusConfig(s, "plant.json", "transport"));
+  EXPECT_NO_THROW(parseModbusSettings(s, "plant.json", "transport"));
 }
 
 TEST(ModbusConfig, RejectsUnknownKeysAndBadValues) {
@@ -175,7 +180,7 @@ TEST(ModbusConfig, ReadAndWriteSpansFitOneTransaction) {
 
   // 125 registers exactly is fine: inputs 0..124.
   s["registers"]["sequence"]["address"] = 124;
-  EXPECT_NO_THROW(parseModbusConfig(s, "plant.json", "transport"));
+  EXPECT_NO_THROW(parseModbusSettings(s, "plant.json", "transport"));
 }
 
 TEST(ModbusConfig, AddressesEndWithinTheTable) {
@@ -190,7 +195,7 @@ TEST(ModbusConfig, AddressesEndWithinTheTable) {
 
 TEST(ModbusConfig, Fc23NeedsHoldingInputs) {
   json s = test::tcpTransportJson(1502, true);
-  EXPECT_TRUE(parseModbusConfig(s, "plant.json", "transport").registers.fc23);
+  EXPECT_TRUE(parseModbusSettings(s, "plant.json", "transport").registers.fc23);
   s["registers"]["position"]["X"]["table"] = "input";
   s["registers"]["position"]["X"]["address"] = 0;
   expectRejected(s, "transport.registers.position.X", "fc23");

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "loopback_fixture.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 #include "volcomp/modbus/error.hpp"
 
 namespace volcomp::test {
@@ -13,11 +13,11 @@ TEST(ModbusRtuPty, ReadsAndWritesOverAPseudoTerminal) {
   auto lb = Loopback::rtu(kAt);
   ASSERT_FALSE(lb->server->devicePath().empty());
   ASSERT_FALSE(lb->port->connect()) << lb->server->devicePath();
-  daemon::AxisSample s;
+  loop::AxisSample s;
   ASSERT_FALSE(lb->port->read(s));
   for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(s.positionMm[k], kAt[k], 1e-9);
   EXPECT_TRUE(s.enable);
-  daemon::OffsetCommand c;
+  loop::OffsetCommand c;
   c.offsetMm = {0.0042, -0.0017, 0.0};
   c.heartbeat = 3;
   ASSERT_FALSE(lb->port->write(c));
@@ -30,7 +30,7 @@ TEST(ModbusRtuPty, ReadsAndWritesOverAPseudoTerminal) {
 TEST(ModbusRtuPty, ExceptionAndSilenceThenReopen) {
   auto lb = Loopback::rtu(kAt);
   ASSERT_FALSE(lb->port->connect());
-  daemon::AxisSample s;
+  loop::AxisSample s;
   lb->machine.exception(lb->now(), 6, 0.0);
   EXPECT_EQ(lb->port->read(s), modbus::Errc::server_device_busy);
   lb->machine.resume();
@@ -38,7 +38,7 @@ TEST(ModbusRtuPty, ExceptionAndSilenceThenReopen) {
   lb->machine.stall(lb->now(), 0.0);
   EXPECT_EQ(lb->port->read(s), modbus::Errc::response_timeout);
   const std::error_code ec = lb->port->read(s);
-  EXPECT_TRUE(daemon::isLinkError(ec)) << ec.message();
+  EXPECT_TRUE(loop::isLinkError(ec)) << ec.message();
   EXPECT_FALSE(lb->port->connected());
   // The device can be opened again (no exclusive lock left behind) and the slave answers.
   lb->machine.resume();

@@ -10,7 +10,8 @@
 
 #include "subprocess.hpp"
 #include "test_maps.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/config/modbus_config.hpp"
+#include "volcomp/loop/ports.hpp"
 #include "volcomp/modbus/controller_port.hpp"
 #include "volcomp/modbus/error.hpp"
 #include "wait_until.hpp"
@@ -51,9 +52,9 @@ TEST(SimProcess, ServesTheExampleMachineAndReportsAtSigterm) {
   ASSERT_NE(port, 0);
 
   modbus::ModbusControllerPort driver(
-      config::parseModbusConfig(tcpTransportJson(port), "test", "transport"));
+      config::parseModbusSettings(tcpTransportJson(port), "test", "transport"));
   ASSERT_FALSE(driver.connect());
-  daemon::AxisSample s;
+  loop::AxisSample s;
   // The scheduled event at 0 s switches enable off; stdin switches it on again.
   ASSERT_TRUE(testutil::waitUntil([&] { return !driver.read(s) && !s.enable; }));
   sim.writeLine("enable on");
@@ -65,7 +66,7 @@ TEST(SimProcess, ServesTheExampleMachineAndReportsAtSigterm) {
   EXPECT_TRUE(s.homed);
 
   // Offsets well inside the example's limits (0.1 mm, 0.5 mm/s): 1 um steps.
-  daemon::OffsetCommand c;
+  loop::OffsetCommand c;
   int writes = 0;
   for (int i = 1; i <= 5; ++i) {
     c.offsetMm = {0.001 * i, -0.0005 * i, 0.0};
@@ -83,7 +84,7 @@ TEST(SimProcess, ServesTheExampleMachineAndReportsAtSigterm) {
   ASSERT_TRUE(testutil::waitUntil([&] { return !driver.read(s); }));
 
   sim.writeLine("drop-link");
-  ASSERT_TRUE(testutil::waitUntil([&] { return daemon::isLinkError(driver.read(s)); }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return loop::isLinkError(driver.read(s)); }));
   sim.writeLine("resume");
   ASSERT_TRUE(testutil::waitUntil([&] { return !driver.connect(); }));
   ASSERT_FALSE(driver.read(s));

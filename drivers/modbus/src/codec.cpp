@@ -56,7 +56,7 @@ std::uint64_t unpackBits(std::span<const std::uint16_t> src, int width, WordOrde
 CodecStatus encode(double mm, const ValueFormat& format, std::span<std::uint16_t> dest) noexcept {
   const double x = mm * format.countsPerMm * static_cast<double>(format.sign);
   if (!std::isfinite(x)) return CodecStatus::NotFinite;
-  const int width = config::registerWidth(format.type);
+  const int width = registerWidth(format.type);
   bool saturated = false;
   std::uint64_t bits = 0;
   switch (format.type) {
@@ -92,7 +92,7 @@ CodecStatus encode(double mm, const ValueFormat& format, std::span<std::uint16_t
 
 CodecStatus decode(std::span<const std::uint16_t> src, const ValueFormat& format,
                    double& mm) noexcept {
-  const int width = config::registerWidth(format.type);
+  const int width = registerWidth(format.type);
   const std::uint64_t bits = unpackBits(src, width, format.order);
   double raw = 0.0;
   switch (format.type) {

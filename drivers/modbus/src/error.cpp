@@ -1,9 +1,6 @@
 #include "volcomp/modbus/error.hpp"
 
-#include <cerrno>
 #include <string>
-
-#include <modbus/modbus.h>
 
 namespace volcomp::modbus {
 namespace {
@@ -69,30 +66,6 @@ class ModbusCategory final : public std::error_category {
 const std::error_category& modbusCategory() noexcept {
   static const ModbusCategory category;
   return category;
-}
-
-std::error_code fromLibmodbusErrno(int err) noexcept {
-  if (err > MODBUS_ENOBASE && err <= EMBXGTAR) {
-    return {err - MODBUS_ENOBASE, modbusCategory()};
-  }
-  switch (err) {
-    case ETIMEDOUT:
-      return Errc::response_timeout;
-    case EMBBADCRC:
-      return Errc::bad_crc;
-    case EMBBADDATA:
-      return Errc::bad_data;
-    case EMBBADEXC:
-      return Errc::bad_exception;
-    case EMBUNKEXC:
-      return Errc::unknown_exception;
-    case EMBMDATA:
-      return Errc::too_much_data;
-    case EMBBADSLAVE:
-      return Errc::bad_slave;
-    default:
-      return {err, std::generic_category()};
-  }
 }
 
 }  // namespace volcomp::modbus

@@ -8,8 +8,6 @@
 namespace volcomp::modbus {
 namespace {
 
-using config::RegisterTable;
-
 struct Span {
   int lo = 65536;
   int hi = -1;
@@ -51,37 +49,35 @@ std::error_code toError(CodecStatus s) noexcept {
 
 }  // namespace
 
-RegisterPlan planRegisters(const config::ModbusRegisterMap& m) noexcept {
+RegisterPlan planRegisters(const RegisterMap& m) noexcept {
   Span holding, input, write;
   auto addInput = [&](RegisterTable t, int start, int width) {
     (t == RegisterTable::Input ? input : holding).add(start, width);
   };
-  for (const auto& p : m.position)
-    addInput(p.table, p.address, config::registerWidth(p.format.type));
+  for (const auto& p : m.position) addInput(p.table, p.address, registerWidth(p.format.type));
   addInput(m.enable.table, m.enable.address, 1);
   addInput(m.homed.table, m.homed.address, 1);
   if (m.sequence) addInput(m.sequence->table, m.sequence->address, 1);
   if (m.appliedOffset) {
     for (const auto& a : *m.appliedOffset) {
-      addInput(a.table, a.address, config::registerWidth(a.format.type));
+      addInput(a.table, a.address, registerWidth(a.format.type));
     }
   }
-  for (const auto& o : m.offset) write.add(o.address, config::registerWidth(o.format.type));
+  for (const auto& o : m.offset) write.add(o.address, registerWidth(o.format.type));
   write.add(m.statusAddress, 1);
   write.add(m.heartbeatAddress, 1);
   return {holding.block(), input.block(), write.block()};
 }
 
-std::error_code decodeInputs(const config::ModbusRegisterMap& m, ConstTableView holding,
-                             ConstTableView input, daemon::AxisSample& out) noexcept {
+std::error_code decodeInputs(const RegisterMap& m, ConstTableView holding, ConstTableView input,
+                             loop::AxisSample& out) noexcept {
   std::error_code result;
   for (std::size_t i = 0; i < 3; ++i) {
     const auto& p = m.position[i];
-    const auto regs =
-        at(pick(p.table, holding, input), p.address, config::registerWidth(p.format.type));
+    const auto regs = at(pick(p.table, holding, input), p.address, registerWidth(p.format.type));
     if (auto ec = toError(decode(regs, p.format, out.positionMm[i])); ec && !result) result = ec;
   }
-  auto bit = [&](const config::BitRegister& b) {
+  auto bit = [&](const BitRegister& b) {
     return ((at(pick(b.table, holding, input), b.address, 1)[0] >> b.bit) & 1U) != 0;
   };
   out.enable = bit(m.enable);
@@ -93,8 +89,7 @@ std::error_code decodeInputs(const config::ModbusRegisterMap& m, ConstTableView 
   if (m.appliedOffset) {
     for (std::size_t i = 0; i < 3; ++i) {
       const auto& a = (*m.appliedOffset)[i];
-      const auto regs =
-          at(pick(a.table, holding, input), a.address, config::registerWidth(a.format.type));
+      const auto regs = at(pick(a.table, holding, input), a.address, registerWidth(a.format.type));
       if (auto ec = toError(decode(regs, a.format, out.appliedOffsetMm[i])); ec && !result)
         result = ec;
     }
@@ -102,11 +97,11 @@ std::error_code decodeInputs(const config::ModbusRegisterMap& m, ConstTableView 
   return result;
 }
 
-std::error_code encodeOutputs(const config::ModbusRegisterMap& m,
-                              const daemon::OffsetCommand& command, TableView holding) noexcept {
+std::error_code encodeOutputs(const RegisterMap& m, const loop::OffsetCommand& command,
+                              TableView holding) noexcept {
   for (std::size_t i = 0; i < 3; ++i) {
     const auto& o = m.offset[i];
-    const auto regs = at(holding, o.address, config::registerWidth(o.format.type));
+    const auto regs = at(holding, o.address, registerWidth(o.format.type));
     if (auto ec = toError(encode(command.offsetMm[i], o.format, regs))) return ec;
   }
   at(holding, m.statusAddress, 1)[0] = command.status;
@@ -114,16 +109,15 @@ std::error_code encodeOutputs(const config::ModbusRegisterMap& m,
   return {};
 }
 
-std::error_code encodeInputs(const config::ModbusRegisterMap& m, const daemon::AxisSample& sample,
+std::error_code encodeInputs(const RegisterMap& m, const loop::AxisSample& sample,
                              TableView holding, TableView input) noexcept {
   std::error_code result;
-  auto put = [&](const config::ValueRegister& r, double mm) {
-    const auto regs =
-        at(pick(r.table, holding, input), r.address, config::registerWidth(r.format.type));
+  auto put = [&](const ValueRegister& r, double mm) {
+    const auto regs = at(pick(r.table, holding, input), r.address, registerWidth(r.format.type));
     if (auto ec = toError(encode(mm, r.format, regs)); ec && !result) result = ec;
   };
   for (std::size_t i = 0; i < 3; ++i) put(m.position[i], sample.positionMm[i]);
-  auto setBit = [&](const config::BitRegister& b, bool on) {
+  auto setBit = [&](const BitRegister& b, bool on) {
     auto& reg = at(pick(b.table, holding, input), b.address, 1)[0];
     const auto mask = static_cast<std::uint16_t>(1U << b.bit);
     reg = on ? static_cast<std::uint16_t>(reg | mask) : static_cast<std::uint16_t>(reg & ~mask);
@@ -138,12 +132,12 @@ std::error_code encodeInputs(const config::ModbusRegisterMap& m, const daemon::A
   return result;
 }
 
-std::error_code decodeOutputs(const config::ModbusRegisterMap& m, ConstTableView holding,
-                              daemon::OffsetCommand& out) noexcept {
+std::error_code decodeOutputs(const RegisterMap& m, ConstTableView holding,
+                              loop::OffsetCommand& out) noexcept {
   std::error_code result;
   for (std::size_t i = 0; i < 3; ++i) {
     const auto& o = m.offset[i];
-    const auto regs = at(holding, o.address, config::registerWidth(o.format.type));
+    const auto regs = at(holding, o.address, registerWidth(o.format.type));
     if (auto ec = toError(decode(regs, o.format, out.offsetMm[i])); ec && !result) result = ec;
   }
   out.status = at(holding, m.statusAddress, 1)[0];

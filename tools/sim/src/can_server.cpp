@@ -14,7 +14,7 @@ CanServer::CanServer(can::CanLayout layout, Machine& machine, std::function<doub
       work_(asio::make_work_guard(io_)),
       node_(io_, std::move(layout),
             {[this](double t) { return machine_.inputs(t); },
-             [this](double t, const daemon::OffsetCommand& c) { machine_.onWrite(t, c); },
+             [this](double t, const loop::OffsetCommand& c) { machine_.onWrite(t, c); },
              [this] { return now_(); }},
             broadcastPeriod) {}
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "volcomp/daemon/compensation_loop.hpp"
+#include "volcomp/loop/compensation_loop.hpp"
 
 namespace volcomp::sim {
 namespace {
@@ -80,19 +80,19 @@ void Machine::advanceLocked(double tS) {
   lastT_ = tS;
 }
 
-daemon::AxisSample Machine::inputs(double tS) {
+loop::AxisSample Machine::inputs(double tS) {
   std::lock_guard lock(mutex_);
   advanceLocked(tS);
   ++sequence_;
   if (activeAt(freezeUntil_, tS)) {
-    daemon::AxisSample s = frozenSample_;
+    loop::AxisSample s = frozenSample_;
     s.enable = enable_;
     s.homed = homed_;
     return s;
   }
-  daemon::AxisSample s;
+  loop::AxisSample s;
   for (std::size_t k = 0; k < 3; ++k) {
-    s.positionMm[k] = options_.semantics == config::PositionSemantics::Actual
+    s.positionMm[k] = options_.semantics == loop::PositionSemantics::Actual
                           ? programmed_[k] + applied_[k]
                           : programmed_[k];
   }
@@ -112,7 +112,7 @@ void Machine::onSessionStart(double tS) {
   ++sessions_;
 }
 
-void Machine::onWrite(double tS, const daemon::OffsetCommand& command, bool partial) {
+void Machine::onWrite(double tS, const loop::OffsetCommand& command, bool partial) {
   std::lock_guard lock(mutex_);
   advanceLocked(tS);
   WriteRecord rec;
@@ -131,8 +131,7 @@ void Machine::onWrite(double tS, const daemon::OffsetCommand& command, bool part
   // so that much more is allowed then.
   const Limits& lim = options_.limits;
   const double stepMm = lim.maxRateMmS * (lim.cycleS + lim.rateToleranceS);
-  const double allowedMm =
-      controllerChanged_ ? 2.0 * stepMm + daemon::kReadbackResolutionMm : stepMm;
+  const double allowedMm = controllerChanged_ ? 2.0 * stepMm + loop::kReadbackResolutionMm : stepMm;
   for (std::size_t k = 0; k < 3; ++k) {
     const double o = command.offsetMm[k];
     const double q = lim.quantumMm[k];
@@ -296,7 +295,7 @@ nlohmann::json Machine::report(double tS) const {
       {"exceptions_sent", exceptionsSent_},
       {"watchdog_trips", watchdogTrips_},
       {"position_semantics",
-       options_.semantics == config::PositionSemantics::Actual ? "actual" : "commanded"},
+       options_.semantics == loop::PositionSemantics::Actual ? "actual" : "commanded"},
   };
 }
 

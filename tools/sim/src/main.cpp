@@ -153,8 +153,8 @@ int main(int argc, char** argv) {
     cfg = sim::loadSimConfig(configFile);
     if (!modelOverride.empty()) cfg.modelPath = modelOverride;
     if (!semanticsOverride.empty()) {
-      cfg.machine.semantics = semanticsOverride == "actual" ? config::PositionSemantics::Actual
-                                                            : config::PositionSemantics::Commanded;
+      cfg.machine.semantics = semanticsOverride == "actual" ? loop::PositionSemantics::Actual
+                                                            : loop::PositionSemantics::Commanded;
     }
     sim::Path path = sim::makePath(cfg.path);
     sim::ErrorFunction trueError = [](const sim::Vec3&, const sim::MotionDirections&) {
@@ -166,7 +166,7 @@ int main(int argc, char** argv) {
       std::string why;
       if (!pathInsideTravel(path, travel, why)) throw config::ConfigError(configFile, "path", why);
     }
-    if (cfg.can) {
+    if (auto* layout = std::get_if<can::CanLayout>(&cfg.transport)) {
       if (rtu || tcp || port) {
         throw config::ConfigError(configFile, "transport.type",
                                   "--rtu, --tcp and --port apply to Modbus, not to \"can\"");
@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
         if (interfaceOverride.size() > 15) {
           throw config::ConfigError("--interface", "", "expected 1-15 characters");
         }
-        cfg.can->interfaceName = interfaceOverride;
+        layout->interfaceName = interfaceOverride;
       }
     } else if (!interfaceOverride.empty()) {
       throw config::ConfigError(configFile, "transport.type",
@@ -203,23 +203,23 @@ int main(int argc, char** argv) {
   std::optional<sim::ModbusServer> modbusServer;
   std::optional<sim::CanServer> canServer;
   try {
-    if (cfg.can) {
-      canServer.emplace(*cfg.can, *machine, now,
+    if (const auto* layout = std::get_if<can::CanLayout>(&cfg.transport)) {
+      canServer.emplace(*layout, *machine, now,
                         std::chrono::microseconds(std::llround(cfg.canBroadcastS * 1e6)));
       canServer->start();
       std::cout << canServer->listeningLine() << std::endl;
     } else {
-      const config::ModbusConfig& modbusConfig = *cfg.modbus;
+      const auto& modbusConfig = std::get<modbus::ModbusSettings>(cfg.transport);
       modbusServer.emplace(modbusConfig.registers, modbusConfig.slaveId, *machine, now);
       const bool serveRtu =
-          rtu || (!tcp && std::holds_alternative<config::RtuLink>(modbusConfig.link));
+          rtu || (!tcp && std::holds_alternative<modbus::RtuLink>(modbusConfig.link));
       if (serveRtu) {
         modbusServer->startRtu();
       } else {
         std::uint16_t p = 0;
         if (port) {
           p = static_cast<std::uint16_t>(*port);
-        } else if (const auto* t = std::get_if<config::TcpLink>(&modbusConfig.link)) {
+        } else if (const auto* t = std::get_if<modbus::TcpLink>(&modbusConfig.link)) {
           p = t->port;
         }
         modbusServer->startTcp(p);

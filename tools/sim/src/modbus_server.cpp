@@ -31,7 +31,7 @@ std::uint16_t word(const std::uint8_t* p) noexcept {
 
 }  // namespace
 
-ModbusServer::ModbusServer(config::ModbusRegisterMap map, int slaveId, Machine& machine,
+ModbusServer::ModbusServer(modbus::RegisterMap map, int slaveId, Machine& machine,
                            std::function<double()> now)
     : map_(std::move(map)),
       plan_(modbus::planRegisters(map_)),
@@ -230,7 +230,7 @@ void ModbusServer::handle(int length) noexcept {
     }
     const int outLo = plan_.write.start, outHi = plan_.write.start + plan_.write.count;
     if (wAddr < outHi && outLo < wAddr + wCount) {
-      daemon::OffsetCommand command;
+      loop::OffsetCommand command;
       modbus::decodeOutputs(
           map_,
           modbus::ConstTableView{std::span<const std::uint16_t>(mapping_->tab_registers,
@@ -240,7 +240,7 @@ void ModbusServer::handle(int length) noexcept {
       machine_.onWrite(t, command, !(wAddr <= outLo && wAddr + wCount >= outHi));
     }
   }
-  const daemon::AxisSample inputs = machine_.inputs(t);
+  const loop::AxisSample inputs = machine_.inputs(t);
   modbus::encodeInputs(
       map_, inputs,
       modbus::TableView{

@@ -55,8 +55,8 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
   c.file = file;
   if (auto m = root.find("model")) c.modelPath = resolve(file, m->string());
   c.machine.semantics = root.at("position_semantics").oneOf({"commanded", "actual"}) == "actual"
-                            ? config::PositionSemantics::Actual
-                            : config::PositionSemantics::Commanded;
+                            ? loop::PositionSemantics::Actual
+                            : loop::PositionSemantics::Commanded;
   c.path = parsePath(root.at("path"), file);
   if (auto l = root.find("limits")) {
     l->allowOnly({"max_offset_mm", "max_rate_mm_s", "rate_tolerance_ms", "cycle_ms"});
@@ -75,31 +75,22 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
   c.machine.settleS = root.numberOr("settle_ms", 0.0) / 1000.0;
   if (c.machine.settleS < 0.0) root.at("settle_ms").failExpected(">= 0");
   if (auto v = root.find("tick_ms")) c.tickS = v->number(0.1, 1000.0) / 1000.0;
-  const JsonReader transport = root.at("transport");
-  c.transportType = transport.at("type").oneOf({"modbus-tcp", "modbus-rtu", "can"});
-  c.transport = transport.json();
-  if (c.transportType == "can") {
+  c.transport = config::parseTransportSettings(root.at("transport").json(), file, "transport");
+  if (const auto* layout = std::get_if<can::CanLayout>(&c.transport)) {
     if (auto v = root.find("can_broadcast_ms")) c.canBroadcastS = v->number(0.1, 1000.0) / 1000.0;
+    c.machine.limits.quantumMm = offsetQuantumMm(*layout);
   } else {
     if (root.find("can_broadcast_ms")) {
       throw config::ConfigError(file, "can_broadcast_ms", "applies to a CAN transport only");
     }
-    c.modbus = config::parseModbusConfig(c.transport, file, "transport");
-    c.machine.limits.quantumMm = offsetQuantumMm(c.modbus->registers);
+    c.machine.limits.quantumMm =
+        offsetQuantumMm(std::get<modbus::ModbusSettings>(c.transport).registers);
   }
   return c;
 }
 
-void resolveCanTransport(SimConfig& c) {
-  if (c.transportType != "can") return;
-  c.can = can::loadCanLayout(c.transport, c.file, "transport");
-  c.machine.limits.quantumMm = offsetQuantumMm(*c.can);
-}
-
 SimConfig loadSimConfig(const std::string& file) {
-  SimConfig c = parseSimConfig(config::readJsonFile(file), file);
-  resolveCanTransport(c);
-  return c;
+  return parseSimConfig(config::readJsonFile(file), file);
 }
 
 Path makePath(const PathSpec& s) {
@@ -109,12 +100,12 @@ Path makePath(const PathSpec& s) {
   return Path::fromCsv(s.csvFile, s.feedMmMin);
 }
 
-Vec3 offsetQuantumMm(const config::ModbusRegisterMap& map) noexcept {
+Vec3 offsetQuantumMm(const modbus::RegisterMap& map) noexcept {
   Vec3 q{};
   for (std::size_t k = 0; k < 3; ++k) {
     const auto& f = map.offset[k].format;
     const bool isFloat =
-        f.type == config::RegisterType::Float32 || f.type == config::RegisterType::Float64;
+        f.type == modbus::RegisterType::Float32 || f.type == modbus::RegisterType::Float64;
     q[k] = isFloat ? 0.0 : 1.0 / f.countsPerMm;
   }
   return q;

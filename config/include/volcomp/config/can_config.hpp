@@ -1,7 +1,7 @@
 #pragma once
-/// The CAN transport section of a daemon (and simulator) configuration. Plain data; the codec,
-/// the DBC importer and the SocketCAN driver live in volcomp::can, which also resolves the DBC
-/// references and checks the frame layout (resolveCanConfig).
+/// The CAN transport section of a daemon (and simulator) configuration, read into the resolved
+/// can::CanLayout the driver and the simulated controller work from: DBC references are looked
+/// up in the DBC file the section names and the frame layout is checked.
 ///
 /// JSON shape (key paths relative to the section; everything not marked optional is required):
 ///   {
@@ -38,71 +38,31 @@
 /// Timeouts: stale_ms (broadcast: the newest complete set may be this old; default 100),
 /// response_ms (sync: wait for the answer; default 10).
 
-#include <array>
-#include <cstdint>
-#include <optional>
+/// Rules checked by loadCanLayout (each violation is a ConfigError at the signal's key path):
+/// - every signal's layout is valid and fits its frame: 8 bytes classical, 64 bytes FD, and the
+///   DBC message length when the signal comes from the DBC;
+/// - signals sharing a frame do not overlap; no frame is both an input and an output, and the
+///   SYNC frame is neither;
+/// - status is an unsigned integer of at least 16 bits with scale 1 and offset 0 (the status word
+///   is 16 bits); heartbeat and sequence counters are unsigned integers with scale 1 and
+///   offset 0 (the heartbeat wraps modulo 2^length: it is a counter);
+/// - at most one sequence counter per input frame; with the broadcast trigger and more than one
+///   input frame, every input frame carries one (that is how a consistent set is recognised);
+/// - multiplexed DBC signals are refused.
+
 #include <string>
-#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "volcomp/can/layout.hpp"
 #include "volcomp/config/config_error.hpp"
 
 namespace volcomp::config {
 
-enum class CanByteOrder : std::uint8_t { Intel, Motorola };
-enum class CanValueType : std::uint8_t { Unsigned, Signed, Float32, Float64 };
-enum class CanTrigger : std::uint8_t { Broadcast, Sync };
-
-/// One signal as written in the configuration: a DBC reference or an inline layout.
-struct CanSignalConfig {
-  std::string keyPath;  ///< where it was defined, for messages while resolving
-  std::string dbcName;  ///< non-empty: the layout comes from the DBC file, fields below unused
-  std::uint32_t frameId = 0;
-  bool extended = false;
-  unsigned startBit = 0;
-  unsigned length = 1;
-  CanByteOrder byteOrder = CanByteOrder::Intel;
-  CanValueType valueType = CanValueType::Unsigned;
-  double scale = 1.0;
-  double offset = 0.0;
-  double minimum = 0.0;
-  double maximum = 0.0;
-  std::string unit;
-};
-
-struct CanSyncFrame {
-  std::uint32_t id = 0;
-  bool extended = false;
-  std::vector<std::uint8_t> data;  ///< payload, 0..8 bytes (a valid FD length when fd)
-};
-
-struct CanConfig {
-  std::string file;     ///< the configuration file (messages)
-  std::string keyPath;  ///< the section's key path (messages)
-  std::string interfaceName;
-  bool fd = false;
-  bool bitrateSwitch = true;
-  CanTrigger trigger = CanTrigger::Broadcast;
-  std::string dbcPath;  ///< "" when none; else resolved against the config file's folder
-  double staleTimeoutMs = 100.0;
-  double responseTimeoutMs = 10.0;
-  std::optional<CanSyncFrame> sync;  ///< present exactly when trigger == Sync
-
-  std::array<CanSignalConfig, 3> position{};
-  CanSignalConfig enable;
-  CanSignalConfig homed;
-  std::vector<CanSignalConfig> sequence;
-  std::optional<std::array<CanSignalConfig, 3>> appliedOffset;
-
-  std::array<CanSignalConfig, 3> offset{};
-  CanSignalConfig status;
-  CanSignalConfig heartbeat;
-};
-
-/// Parses a CAN section (field types and ranges). Layout rules that need the DBC (frame fit,
-/// overlaps, one sequence counter per input frame…) are checked by volcomp::can::resolveCanConfig.
-CanConfig parseCanConfig(const nlohmann::json& section, const std::string& file,
-                         const std::string& keyPath);
+/// Parses a CAN section, reads its DBC file (when referenced, relative to `file`'s folder),
+/// resolves every signal and checks the rules above. Throws ConfigError naming `file` (or the
+/// DBC file) and the key path under `keyPath`.
+can::CanLayout loadCanLayout(const nlohmann::json& section, const std::string& file,
+                             const std::string& keyPath);
 
 }  // namespace volcomp::config

@@ -1,6 +1,7 @@
 #pragma once
 /// The daemon configuration file (volcompd --config FILE): loop timing, limiter, safety timeouts,
-/// the model to load and the transport section, which each driver parses itself.
+/// the model to load and the transport section, read into the settings of its driver
+/// (config/transport_config.hpp).
 ///
 /// JSON shape (key paths as in error messages; required keys marked *):
 ///   {
@@ -30,21 +31,11 @@
 #include <nlohmann/json.hpp>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/transport_config.hpp"
+#include "volcomp/loop/limiter.hpp"
+#include "volcomp/loop/loop_settings.hpp"
 
 namespace volcomp::config {
-
-enum class PositionSemantics {
-  /// The position registers hold the programmed position: evaluate the model at it.
-  Commanded,
-  /// The position registers include the applied offset: subtract it before evaluating.
-  Actual,
-};
-
-struct LimiterConfig {
-  double maxOffsetMm = 0.0;
-  double maxRateMmS = 0.0;
-  double maxAccelMmS2 = 0.0;  ///< 0 = no acceleration limit
-};
 
 struct ReconnectConfig {
   double initialMs = 100.0;
@@ -54,8 +45,8 @@ struct ReconnectConfig {
 struct DaemonConfig {
   std::string file;  ///< the configuration file (messages, relative paths)
   double cyclePeriodMs = 10.0;
-  PositionSemantics positionSemantics = PositionSemantics::Commanded;
-  LimiterConfig limiter;
+  loop::PositionSemantics positionSemantics = loop::PositionSemantics::Commanded;
+  loop::LimiterSettings limiter;
   double staleTimeoutMs = 500.0;
   bool frozenPositionsAreStale = false;
   double travelMarginMm = 1.0;
@@ -65,9 +56,8 @@ struct DaemonConfig {
   std::string modelPath;  ///< resolved against the configuration file's directory
   ReconnectConfig reconnect;
   std::string logLevel = "info";
-  std::string transportType;  ///< "modbus-tcp", "modbus-rtu" or "can"
-  /// The whole "transport" object, for the driver's own parser (key paths start at "transport").
-  nlohmann::json transport;
+  /// The "transport" section, read into its driver's settings (transportType() names it).
+  TransportSettings transport;
 };
 
 /// Reads and validates a daemon configuration file. Throws ConfigError (file, key path, what was

@@ -19,30 +19,23 @@
 #include <thread>
 
 #include "volcomp/config/daemon_config.hpp"
-#include "volcomp/daemon/compensation_loop.hpp"
-#include "volcomp/daemon/compensation_model.hpp"
+#include "volcomp/daemon/configuration.hpp"
 #include "volcomp/daemon/notifier.hpp"
-#include "volcomp/daemon/ports.hpp"
 #include "volcomp/daemon/scheduler.hpp"
+#include "volcomp/daemon/waitable_clock.hpp"
+#include "volcomp/loop/compensation_loop.hpp"
+#include "volcomp/loop/ports.hpp"
 
 namespace volcomp::daemon {
-
-/// A validated configuration with its model.
-struct LoadedConfiguration {
-  config::DaemonConfig config;
-  std::shared_ptr<CompensationModel> model;
-};
-
-/// Reads the daemon configuration and the model it names. Throws config::ConfigError or
-/// model::ModelError.
-LoadedConfiguration loadConfiguration(const std::string& configPath);
 
 class Daemon {
  public:
   /// Loads a configuration for a reload; throws on a bad file (the running one then stays).
   using Loader = std::function<LoadedConfiguration()>;
 
-  Daemon(asio::io_context& io, ControllerPort& port, const Clock& clock, Notifier& notifier,
+  /// `clock` is the one time source of the loop and the scheduler (and waits for the deadlines);
+  /// it must run its waits on `io`.
+  Daemon(asio::io_context& io, loop::ControllerPort& port, WaitableClock& clock, Notifier& notifier,
          LoadedConfiguration initial, Loader reloadLoader, std::function<void()> onFinished);
   ~Daemon();
   Daemon(const Daemon&) = delete;
@@ -55,7 +48,7 @@ class Daemon {
   /// between cycles; a rejected file keeps everything as it was and sets RELOAD_FAILED.
   void requestReload();
 
-  const CompensationLoop& loop() const noexcept { return loop_; }
+  const loop::CompensationLoop& loop() const noexcept { return loop_; }
   const PeriodicScheduler& scheduler() const noexcept { return scheduler_; }
   bool ready() const noexcept { return ready_; }
   bool reloading() const noexcept { return reloading_; }
@@ -66,15 +59,15 @@ class Daemon {
 
  private:
   bool cycle();
-  void logReport(const CycleReport& report);
-  void notifyPeriodic(Clock::time_point now);
+  void logReport(const loop::CycleReport& report);
+  void notifyPeriodic(loop::Clock::time_point now);
   void finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::string error);
 
   asio::io_context& io_;
-  const Clock& clock_;
+  const loop::Clock& clock_;
   Notifier& notifier_;
   config::DaemonConfig config_;
-  CompensationLoop loop_;
+  loop::CompensationLoop loop_;
   PeriodicScheduler scheduler_;
   Loader reloadLoader_;
   std::function<void()> onFinished_;
@@ -86,14 +79,14 @@ class Daemon {
   bool finished_ = false;
   std::string reloadError_;
   std::optional<std::chrono::microseconds> watchdog_;
-  Clock::time_point lastWatchdog_{};
-  Clock::time_point lastStatus_{};
-  Clock::time_point startTime_{};
+  loop::Clock::time_point lastWatchdog_{};
+  loop::Clock::time_point lastStatus_{};
+  loop::Clock::time_point startTime_{};
   bool warnedStarting_ = false;
   std::uint64_t cyclesAtLastStatus_ = 0;
   std::uint64_t overrunsAtLastStatus_ = 0;
   double cycleRateHz_ = 0.0;
-  FaultCode lastLoggedFault_ = FaultCode::None;
+  loop::FaultCode lastLoggedFault_ = loop::FaultCode::None;
 };
 
 }  // namespace volcomp::daemon

@@ -1,37 +1,37 @@
 #pragma once
-/// Periodic execution on absolute deadlines (daemon.md section 1): cycle n is due at
+/// Periodic execution on absolute deadlines (the daemon's cycle timing): cycle n is due at
 /// t0 + n * period. A late wake-up does not shift later deadlines; a cycle that ends after the
 /// next deadline skips the deadlines already past (they are counted, never made up for by a burst
-/// of catch-up cycles).
+/// of catch-up cycles). Time comes from the injected WaitableClock only.
 
-#include <asio/io_context.hpp>
-#include <asio/steady_timer.hpp>
 #include <chrono>
 #include <cstdint>
 #include <functional>
 
+#include "volcomp/daemon/waitable_clock.hpp"
+
 namespace volcomp::daemon {
 
 struct NextDeadline {
-  std::chrono::steady_clock::time_point deadline;
+  loop::Clock::time_point deadline;
   std::uint64_t missed = 0;  ///< deadlines skipped because the cycle ended after them
 };
 
 /// The deadline after `deadline` for a cycle that ended at `now`: deadline + period when that
 /// is still ahead, else the first deadline + m * period (m >= 2) later than `now`, with
 /// missed = m - 1. Pure.
-NextDeadline nextDeadline(std::chrono::steady_clock::time_point deadline,
-                          std::chrono::steady_clock::time_point now,
+NextDeadline nextDeadline(loop::Clock::time_point deadline, loop::Clock::time_point now,
                           std::chrono::nanoseconds period) noexcept;
 
 class PeriodicScheduler {
  public:
-  /// `cycle` runs once per period on the io_context's thread; returning false stops the schedule.
+  /// `cycle` runs once per period on the clock's io_context thread; returning false stops the
+  /// schedule.
   using Cycle = std::function<bool()>;
 
-  PeriodicScheduler(asio::io_context& io, std::chrono::nanoseconds period, Cycle cycle);
+  PeriodicScheduler(WaitableClock& clock, std::chrono::nanoseconds period, Cycle cycle);
 
-  /// Runs the first cycle at once (posted), then one every period after it.
+  /// Runs the first cycle at once (as soon as the io_context runs), then one every period.
   void start();
   void stop();
   bool running() const noexcept { return running_; }
@@ -47,16 +47,16 @@ class PeriodicScheduler {
   /// overrun includes besides the cycle's own duration.
   std::chrono::nanoseconds maxWakeLateness() const noexcept { return maxWakeLateness_; }
   /// The deadline of the cycle running now (or of the next one, between cycles).
-  std::chrono::steady_clock::time_point deadline() const noexcept { return deadline_; }
+  loop::Clock::time_point deadline() const noexcept { return deadline_; }
 
  private:
   void arm();
-  void onTimer(const std::error_code& ec);
+  void onWake();
 
-  asio::steady_timer timer_;
+  WaitableClock& clock_;
   std::chrono::nanoseconds period_;
   Cycle cycle_;
-  std::chrono::steady_clock::time_point deadline_{};
+  loop::Clock::time_point deadline_{};
   std::chrono::nanoseconds maxWakeLateness_{0};
   bool running_ = false;
   std::uint64_t cycles_ = 0;

@@ -19,6 +19,7 @@ struct Frame {
   bool fd = false;          ///< CAN FD frame (payload up to 64 bytes)
   std::uint8_t length = 0;  ///< payload length in bytes (a valid DLC length for `fd`)
   std::array<std::uint8_t, kFdMaxLength> data{};
+  bool operator==(const Frame&) const = default;
 };
 
 /// True when `id` fits the identifier format (11 or 29 bits).

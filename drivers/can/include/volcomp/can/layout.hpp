@@ -1,19 +1,8 @@
 #pragma once
-/// The CAN configuration after DBC references are resolved and the frame layout is checked:
-/// what the driver (and the simulated controller node) works from.
-///
-/// Rules checked by resolveCanConfig (each violation is a ConfigError at the signal's key path):
-/// - every signal's layout is valid and fits its frame: 8 bytes classical, 64 bytes FD, and the
-///   DBC message length when the signal comes from the DBC;
-/// - signals sharing a frame do not overlap; no frame is both an input and an output, and the
-///   SYNC frame is neither;
-/// - status is an unsigned integer of at least 16 bits with scale 1 and offset 0 (the status word
-///   is 16 bits); heartbeat and sequence counters are unsigned integers with scale 1 and
-///   offset 0 (the heartbeat wraps modulo 2^length: it is a counter);
-/// - at most one sequence counter per input frame; with the broadcast trigger and more than one
-///   input frame, every input frame carries one (that is how a consistent set is recognised);
-/// - multiplexed DBC signals are refused.
-
+/// A CAN link's resolved settings: the interface, the trigger, timeouts and every frame the driver
+/// receives or sends with the signals it carries. What the driver (and the controller node of the
+/// simulator and tests) works from; config/can_config.hpp builds it from a transport section
+/// (resolving DBC references) and checks the layout rules listed there.
 #include <array>
 #include <chrono>
 #include <cstddef>
@@ -24,9 +13,14 @@
 
 #include "volcomp/can/frame.hpp"
 #include "volcomp/can/signal.hpp"
-#include "volcomp/config/can_config.hpp"
 
 namespace volcomp::can {
+
+/// How the controller's input frames are triggered: `Broadcast` — the controller sends them by
+/// itself; the daemon uses the newest complete set (every input frame received, all carrying the
+/// same sequence counter when there is more than one input frame). `Sync` — each cycle the daemon
+/// sends the SYNC frame and waits up to the response timeout for every input frame.
+enum class Trigger : std::uint8_t { Broadcast, Sync };
 
 /// Where a decoded input goes / where an encoded output comes from.
 enum class Field : std::uint8_t {
@@ -50,6 +44,7 @@ inline constexpr std::size_t kFieldCount = 14;
 struct FieldSignal {
   Field field;
   SignalSpec spec;
+  bool operator==(const FieldSignal&) const = default;
 };
 
 /// One frame the driver receives or sends, with the signals it carries.
@@ -58,13 +53,14 @@ struct FrameLayout {
   bool extended = false;
   std::size_t length = 0;  ///< bytes: minimum accepted (inputs) / sent (outputs)
   std::vector<FieldSignal> signals;
+  bool operator==(const FrameLayout&) const = default;
 };
 
 struct CanLayout {
   std::string interfaceName;
   bool fd = false;
   bool bitrateSwitch = true;
-  config::CanTrigger trigger = config::CanTrigger::Broadcast;
+  Trigger trigger = Trigger::Broadcast;
   std::chrono::microseconds staleTimeout{100000};
   std::chrono::microseconds responseTimeout{10000};
   std::optional<Frame> syncFrame;
@@ -72,14 +68,7 @@ struct CanLayout {
   bool hasAppliedOffsets = false;
   std::vector<FrameLayout> inputFrames;  ///< in order of first appearance in the config
   std::vector<FrameLayout> outputFrames;
+  bool operator==(const CanLayout&) const = default;
 };
-
-/// Loads the DBC file (when referenced), resolves every signal and checks the rules above.
-/// Throws config::ConfigError naming the configuration file (or the DBC file) and key path.
-CanLayout resolveCanConfig(const config::CanConfig& config);
-
-/// Parses and resolves a CAN section in one step.
-CanLayout loadCanLayout(const nlohmann::json& section, const std::string& file,
-                        const std::string& keyPath);
 
 }  // namespace volcomp::can

@@ -41,6 +41,7 @@ struct SignalSpec {
   double minimum = 0.0;  ///< physical range checked on encode and decode when minimum < maximum
   double maximum = 0.0;
   std::string unit;
+  bool operator==(const SignalSpec&) const = default;
 };
 
 /// Checks the layout alone: length 1..64, float lengths, finite non-zero scale, finite offset.

@@ -3,20 +3,16 @@
 ///
 /// encode: raw = mm * countsPerMm * sign; integer types round to the nearest count (halves away
 /// from zero); the bytes of raw (big-endian A, B, C, D[, E..H]) are laid into registers in the
-/// configured WordOrder (see volcomp/config/modbus_config.hpp). decode is the inverse:
+/// configured WordOrder (see volcomp/modbus/registers.hpp). decode is the inverse:
 /// mm = raw / countsPerMm * sign. Nothing allocates, nothing throws; a value that does not fit is
 /// never wrapped: it is reported.
 
 #include <cstdint>
 #include <span>
 
-#include "volcomp/config/modbus_config.hpp"
+#include "volcomp/modbus/registers.hpp"
 
 namespace volcomp::modbus {
-
-using config::RegisterType;
-using config::ValueFormat;
-using config::WordOrder;
 
 enum class CodecStatus : std::uint8_t {
   Ok,

@@ -2,7 +2,7 @@
 /// std::error_code category for Modbus: the exception codes a server answers with (values 1..11
 /// as on the wire) and the protocol failures libmodbus reports (timeouts, CRC, malformed
 /// responses), plus codec failures. Link loss is reported with generic std::errc values (see
-/// volcomp/daemon/ports.hpp), never with this category.
+/// volcomp/loop/ports.hpp), never with this category.
 
 #include <system_error>
 
@@ -38,10 +38,6 @@ const std::error_category& modbusCategory() noexcept;
 inline std::error_code make_error_code(Errc e) noexcept {
   return {static_cast<int>(e), modbusCategory()};
 }
-
-/// Maps an errno value set by libmodbus: Modbus exceptions and protocol errors to this category,
-/// ETIMEDOUT to Errc::response_timeout, anything else to std::generic_category.
-std::error_code fromLibmodbusErrno(int err) noexcept;
 
 }  // namespace volcomp::modbus
 

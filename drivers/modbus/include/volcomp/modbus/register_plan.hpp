@@ -9,8 +9,8 @@
 #include <span>
 #include <system_error>
 
-#include "volcomp/config/modbus_config.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
+#include "volcomp/modbus/registers.hpp"
 
 namespace volcomp::modbus {
 
@@ -30,7 +30,7 @@ struct RegisterPlan {
 };
 
 /// The blocks of a validated map (config::validateModbusRegisterMap).
-RegisterPlan planRegisters(const config::ModbusRegisterMap& map) noexcept;
+RegisterPlan planRegisters(const RegisterMap& map) noexcept;
 
 /// Registers of one table starting at protocol address `base`: a read buffer, a write buffer or
 /// a whole server-side table.
@@ -46,22 +46,22 @@ struct ConstTableView {
 /// Decodes every input of `map` into `out` (positions, enable, homed, sequence and applied
 /// offsets when mapped). `holding` and `input` must cover the plan's read blocks.
 /// Errors: Errc::value_not_finite for a NaN/infinite float (out is then partly written).
-std::error_code decodeInputs(const config::ModbusRegisterMap& map, ConstTableView holding,
-                             ConstTableView input, daemon::AxisSample& out) noexcept;
+std::error_code decodeInputs(const RegisterMap& map, ConstTableView holding, ConstTableView input,
+                             loop::AxisSample& out) noexcept;
 
 /// Encodes `command` into the output block (`holding` must cover the plan's write block).
 /// Errors: Errc::value_not_finite, Errc::value_out_of_range (the view may be partly written;
 /// the caller must not send it).
-std::error_code encodeOutputs(const config::ModbusRegisterMap& map,
-                              const daemon::OffsetCommand& command, TableView holding) noexcept;
+std::error_code encodeOutputs(const RegisterMap& map, const loop::OffsetCommand& command,
+                              TableView holding) noexcept;
 
 /// Simulator side: encodes the inputs (bits of enable/homed are set or cleared, other bits of
 /// those registers kept). Values that do not fit saturate; the result says so.
-std::error_code encodeInputs(const config::ModbusRegisterMap& map, const daemon::AxisSample& sample,
+std::error_code encodeInputs(const RegisterMap& map, const loop::AxisSample& sample,
                              TableView holding, TableView input) noexcept;
 
 /// Simulator side: decodes the outputs from the holding table.
-std::error_code decodeOutputs(const config::ModbusRegisterMap& map, ConstTableView holding,
-                              daemon::OffsetCommand& out) noexcept;
+std::error_code decodeOutputs(const RegisterMap& map, ConstTableView holding,
+                              loop::OffsetCommand& out) noexcept;
 
 }  // namespace volcomp::modbus

@@ -1,7 +1,7 @@
 #pragma once
-/// The simulated controller's CAN face: a CanSimNode (drivers/can) on its own io_context thread,
-/// sending the input frames of Machine::inputs(t) (broadcast every `broadcastPeriod`, or as the
-/// answer to each SYNC frame) and handing every complete set of output frames to
+/// The simulated controller's CAN face: a CanSimNode (can_sim_node.hpp) on its own io_context
+/// thread, sending the input frames of Machine::inputs(t) (broadcast every `broadcastPeriod`, or as
+/// the answer to each SYNC frame) and handing every complete set of output frames to
 /// Machine::onWrite(t, ...). Same layout as the daemon's transport section.
 ///
 /// Faults from Machine::transportFault, applied by update(t) (call it every simulator tick):
@@ -23,8 +23,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "volcomp/can/can_sim_node.hpp"
 #include "volcomp/can/layout.hpp"
+#include "volcomp/sim/can_sim_node.hpp"
 #include "volcomp/sim/machine.hpp"
 
 namespace volcomp::sim {
@@ -63,7 +63,7 @@ class CanServer {
   const std::function<double()> now_;
   asio::io_context io_;
   asio::executor_work_guard<asio::io_context::executor_type> work_;
-  can::CanSimNode node_;
+  CanSimNode node_;
   std::thread thread_;
 
   // Main thread only.

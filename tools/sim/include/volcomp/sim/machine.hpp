@@ -25,7 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "volcomp/config/daemon_config.hpp"
-#include "volcomp/daemon/ports.hpp"
+#include "volcomp/loop/ports.hpp"
 #include "volcomp/sim/path.hpp"
 
 namespace volcomp::sim {
@@ -46,13 +46,13 @@ struct Limits {
   Vec3 quantumMm{};
   /// The writer's cycle period: any write (the first of a session included, and the first after
   /// a gap) may step from the applied offset by one limiter step, max_rate * (cycle + tolerance);
-  /// by two steps plus daemon::kReadbackResolutionMm when the controller changed the offsets itself
+  /// by two steps plus loop::kReadbackResolutionMm when the controller changed the offsets itself
   /// (watchdog ramp) since the previous write.
   double cycleS = 0.01;
 };
 
 struct MachineOptions {
-  config::PositionSemantics semantics = config::PositionSemantics::Commanded;
+  loop::PositionSemantics semantics = loop::PositionSemantics::Commanded;
   Limits limits;
   /// Offsets the controller applies at start (left over from an earlier run), mm.
   Vec3 initialOffsetMm{};
@@ -102,9 +102,9 @@ class Machine {
   // Transport side --------------------------------------------------------------------------
   /// The inputs the registers show at time t (positions per semantics, flags, applied offsets,
   /// life counter).
-  daemon::AxisSample inputs(double tS);
+  loop::AxisSample inputs(double tS);
   /// The controller received outputs; `partial` when not all output registers were written.
-  void onWrite(double tS, const daemon::OffsetCommand& command, bool partial = false);
+  void onWrite(double tS, const loop::OffsetCommand& command, bool partial = false);
   /// A client connected (TCP accept); the rate check of its first write uses this time.
   void onSessionStart(double tS);
   TransportFault transportFault(double tS);
@@ -149,7 +149,7 @@ class Machine {
   bool enable_ = true;
   bool homed_ = true;
   std::uint16_t sequence_ = 0;
-  daemon::AxisSample frozenSample_{};
+  loop::AxisSample frozenSample_{};
 
   double stallUntil_ = 0.0, dropUntil_ = 0.0, exceptionUntil_ = 0.0, freezeUntil_ = 0.0,
          holdUntil_ = 0.0;

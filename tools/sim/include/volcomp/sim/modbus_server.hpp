@@ -23,8 +23,7 @@ namespace volcomp::sim {
 class ModbusServer {
  public:
   /// `now` returns the machine time in seconds (monotonic).
-  ModbusServer(config::ModbusRegisterMap map, int slaveId, Machine& machine,
-               std::function<double()> now);
+  ModbusServer(modbus::RegisterMap map, int slaveId, Machine& machine, std::function<double()> now);
   ~ModbusServer();
   ModbusServer(const ModbusServer&) = delete;
   ModbusServer& operator=(const ModbusServer&) = delete;
@@ -52,7 +51,7 @@ class ModbusServer {
   void closeClient() noexcept;
   void closeListener() noexcept;
 
-  const config::ModbusRegisterMap map_;
+  const modbus::RegisterMap map_;
   const modbus::RegisterPlan plan_;
   const int slaveId_;
   Machine& machine_;

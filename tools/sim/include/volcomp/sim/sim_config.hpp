@@ -19,8 +19,8 @@
 ///     "can_broadcast_ms": 1,               CAN, broadcast trigger: period of the input frames
 ///                                          (the PLC cycle; 0.1 .. 1000)
 ///     "transport": { the transport section, as in the daemon's configuration: "modbus-tcp",
-///                    "modbus-rtu" (parsed by parseSimConfig) or "can" (resolved by
-///                    resolveCanTransport), with the daemon's rules }
+///                    "modbus-rtu" or "can", read with the daemon's rules
+///                    (config/transport_config.hpp) }
 ///   }
 /// The limits should be the daemon's limiter settings: the simulator checks every write with them.
 
@@ -31,7 +31,8 @@
 #include <nlohmann/json.hpp>
 
 #include "volcomp/can/layout.hpp"
-#include "volcomp/config/modbus_config.hpp"
+#include "volcomp/config/transport_config.hpp"
+#include "volcomp/modbus/registers.hpp"
 #include "volcomp/sim/machine.hpp"
 #include "volcomp/sim/path.hpp"
 
@@ -54,33 +55,26 @@ struct SimConfig {
   PathSpec path;
   MachineOptions machine;
   double tickS = 0.001;
-  std::string transportType;  ///< "modbus-tcp", "modbus-rtu" or "can"
-  nlohmann::json transport;   ///< the whole section (key paths start at "transport")
-  /// The parsed Modbus section (modbus-tcp / modbus-rtu only).
-  std::optional<config::ModbusConfig> modbus;
-  /// The resolved CAN layout (set by resolveCanTransport; a DBC file is read relative to the
-  /// configuration file).
-  std::optional<can::CanLayout> can;
+  /// The transport section read into its driver's settings (a CAN section's DBC file is read
+  /// relative to the configuration file).
+  config::TransportSettings transport;
   /// CAN, broadcast trigger: the input frames are sent this often (s).
   double canBroadcastS = 0.001;
 };
 
-/// Reads, parses and (for "can") resolves the configuration file. Throws config::ConfigError
-/// (file, key path, what was expected).
+/// Reads and parses the configuration file. Throws config::ConfigError (file, key path, what was
+/// expected).
 SimConfig loadSimConfig(const std::string& file);
-/// Parses a configuration; a Modbus transport is parsed, a CAN section is kept raw in
-/// `transport` (resolveCanTransport resolves it).
+/// Parses a configuration; `file` names it in messages and anchors relative paths (model, CSV
+/// path, DBC file). The offset quantum of the limit check comes from the transport's offset
+/// outputs.
 SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file);
-/// For a "can" transport: resolves the layout (reading the DBC file it names) into `can` and
-/// sets the offset quantum of the limit check from the offset signals' scale. Nothing for Modbus.
-/// Throws config::ConfigError.
-void resolveCanTransport(SimConfig& config);
 
 /// Builds the path (a CSV path is read here; errors as std::runtime_error).
 Path makePath(const PathSpec& spec);
 
 /// One register count of each offset output in mm (0 for float registers).
-Vec3 offsetQuantumMm(const config::ModbusRegisterMap& map) noexcept;
+Vec3 offsetQuantumMm(const modbus::RegisterMap& map) noexcept;
 
 /// One count of each offset output signal in mm (|scale|; 0 for float signals).
 Vec3 offsetQuantumMm(const can::CanLayout& layout) noexcept;

@@ -1,0 +1,158 @@
+#pragma once
+/// The compensation loop: one `step()` per cycle, states and safety rules of daemon.md section 3.
+/// It depends only on a ControllerPort (link, position source, offset sink), a Clock and a model
+/// handle; timing (absolute deadlines) is the scheduler's job.
+///
+/// States and what each writes (in one transaction: offsets, status word, heartbeat):
+///   Starting  nothing, until the applied offsets are read back (offsetReadback) or known zero
+///             (nothing written for plcZeroAfter); the limiter then starts from them.
+///   Active    enable on, homed, fresh and valid data: model offsets through the limiter.
+///   Disabled  enable off or not homed: ramp to zero at max rate, then zero.
+///   Fault     stale/invalid input, beyond travel + margin, model error, failed transaction:
+///             ramp to zero; FAULT bit and code. Clears when the cause is gone (the offsets then
+///             slew back in through the limiter).
+///   LinkLost  transport down: nothing written; reconnect with backoff initial -> 2x -> max; on
+///             reconnect back to Starting, i.e. continue from the read-back, never jump.
+///   Stopping  after requestStop(): ramp to zero, then write zero with status 0 and finish.
+///   Finished  nothing more is done.
+/// Position semantics: with `actual` the applied offset (read back, else the last one written) is
+/// subtracted from the positions before the model is evaluated, so the offset does not feed back.
+///
+/// step() is noexcept, allocation-free and does no logging; it reports through CycleReport and
+/// counters, which the caller logs on state changes only.
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string_view>
+#include <system_error>
+
+#include "volcomp/loop/compensation_model.hpp"
+#include "volcomp/loop/direction_tracker.hpp"
+#include "volcomp/loop/limiter.hpp"
+#include "volcomp/loop/loop_settings.hpp"
+#include "volcomp/loop/ports.hpp"
+#include "volcomp/loop/status.hpp"
+
+namespace volcomp::loop {
+
+/// Rounding of a read-back register: one count of a 0.1 um register (mm). After a silence the
+/// loop follows a read-back that departs from its own offsets by more than one limiter step plus
+/// this; a coarser register only makes it re-seed more often, which is safe.
+inline constexpr double kReadbackResolutionMm = 1e-4;
+
+enum class LoopState : std::uint8_t {
+  Starting,
+  Active,
+  Disabled,
+  Fault,
+  LinkLost,
+  Stopping,
+  Finished
+};
+
+std::string_view stateName(LoopState state) noexcept;
+
+/// What one cycle did.
+struct CycleReport {
+  LoopState previous = LoopState::Starting;
+  LoopState state = LoopState::Starting;
+  FaultCode fault = FaultCode::None;
+  bool wrote = false;      ///< an offset command was written successfully
+  bool goodCycle = false;  ///< read and write succeeded without a fault (Active or Disabled)
+  /// Error of the last failed port call in this cycle (read, write or connect), else empty.
+  std::error_code error;
+  bool stateChanged() const noexcept { return previous != state; }
+};
+
+/// Running totals since construction.
+struct LoopCounters {
+  std::uint64_t cycles = 0;
+  std::uint64_t writes = 0;
+  std::uint64_t readErrors = 0;   ///< failed reads on a live link
+  std::uint64_t writeErrors = 0;  ///< failed writes on a live link
+  std::uint64_t linkLosses = 0;
+  std::uint64_t connectAttempts = 0;
+  std::uint64_t reconnects = 0;  ///< successful connects after a link loss
+  std::uint64_t faultCycles = 0;
+  std::uint64_t limitedCycles = 0;
+  /// Times the limiter was re-seeded from the applied offsets because they departed from what
+  /// this loop last wrote (the PLC ramped them out while the daemon was stopped or blocked).
+  std::uint64_t resynchronisations = 0;
+};
+
+class CompensationLoop {
+ public:
+  /// `model` must not be null. The port is connected by the first step().
+  CompensationLoop(ControllerPort& port, const Clock& clock,
+                   std::shared_ptr<CompensationModel> model, const LoopSettings& settings);
+
+  /// One cycle. noexcept, allocation-free, no logging.
+  CycleReport step() noexcept;
+
+  /// Enter Stopping at the next step (ramp out, write zero and status 0, then Finished).
+  void requestStop() noexcept;
+  bool finished() const noexcept { return state_ == LoopState::Finished; }
+
+  /// Takes over a validated model between cycles; the offsets slew to its values through the
+  /// limiter. Sets MODEL_RELOADED for a while and clears RELOAD_FAILED.
+  void setModel(std::shared_ptr<CompensationModel> model) noexcept;
+  /// Takes over new settings between cycles (limiter, timeouts, margins; the period and the
+  /// read-back mode only change on restart, the caller keeps them).
+  void setSettings(const LoopSettings& settings) noexcept;
+  /// A reload was rejected: sets RELOAD_FAILED until the next successful one.
+  void noteReloadFailed() noexcept { reloadFailed_ = true; }
+
+  LoopState state() const noexcept { return state_; }
+  FaultCode fault() const noexcept { return fault_; }
+  /// Status word and offsets of the last command built (written or attempted).
+  std::uint16_t lastStatus() const noexcept { return command_.status; }
+  const std::array<double, 3>& lastOffsetMm() const noexcept { return command_.offsetMm; }
+  std::uint16_t heartbeat() const noexcept { return command_.heartbeat; }
+  const LoopCounters& counters() const noexcept { return counters_; }
+  const LoopSettings& settings() const noexcept { return settings_; }
+  const CompensationModel& model() const noexcept { return *model_; }
+  const model::Directions& directions() const noexcept { return tracker_.directions(); }
+
+ private:
+  using time_point = Clock::time_point;
+
+  void enterLinkLost(time_point now, CycleReport& report) noexcept;
+  bool tryConnect(time_point now, CycleReport& report) noexcept;
+  bool synchronise(time_point now) noexcept;
+  void followController(time_point now) noexcept;
+  FaultCode checkInputs(time_point now, std::array<double, 3>& qMm, bool& outOfTravel) noexcept;
+  void writeCommand(time_point now, std::uint16_t status, CycleReport& report) noexcept;
+
+  ControllerPort& port_;
+  const Clock& clock_;
+  std::shared_ptr<CompensationModel> model_;
+  LoopSettings settings_;
+
+  LoopState state_ = LoopState::Starting;
+  FaultCode fault_ = FaultCode::None;
+  bool synced_ = false;
+  bool everConnected_ = false;
+  bool stopRequested_ = false;
+  bool reloadFailed_ = false;
+  bool lastWriteFailed_ = false;
+
+  AxisSample sample_{};
+  OffsetCommand command_{};
+  LimiterState limiter_{};
+  DirectionTracker tracker_;
+  LoopCounters counters_{};
+
+  std::chrono::nanoseconds backoff_{0};
+  time_point nextConnectAttempt_{};
+  time_point lastWriteTime_{};
+  time_point lastInputChange_{};
+  time_point reconnectedUntil_{};
+  time_point reloadedUntil_{};
+  time_point stopDeadline_{};
+  std::uint16_t lastSequence_ = 0;
+  std::array<double, 3> lastPositionMm_{};
+};
+
+}  // namespace volcomp::loop

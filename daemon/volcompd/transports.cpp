@@ -1,0 +1,34 @@
+#include "transports.hpp"
+
+#include <system_error>
+#include <type_traits>
+#include <variant>
+
+#include "volcomp/can/controller_port.hpp"
+#include "volcomp/config/config_error.hpp"
+#include "volcomp/modbus/controller_port.hpp"
+
+namespace volcomp::volcompd {
+
+std::unique_ptr<loop::ControllerPort> makeControllerPort(const config::TransportSettings& settings,
+                                                         const std::string& file) {
+  return std::visit(
+      [&](const auto& driverSettings) -> std::unique_ptr<loop::ControllerPort> {
+        using Settings = std::decay_t<decltype(driverSettings)>;
+        if constexpr (std::is_same_v<Settings, modbus::ModbusSettings>) {
+          try {
+            return std::make_unique<modbus::ModbusControllerPort>(driverSettings);
+          } catch (const std::system_error& e) {
+            // Validated settings make this unreachable in practice; if libmodbus still refuses
+            // them, the daemon reports it like any other configuration error.
+            throw config::ConfigError(file, "transport",
+                                      std::string("libmodbus refused the settings: ") + e.what());
+          }
+        } else {
+          return std::make_unique<can::CanControllerPort>(driverSettings);
+        }
+      },
+      settings);
+}
+
+}  // namespace volcomp::volcompd

@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "eval_plan.hpp"
+#include "fast/eval_plan.hpp"
 #include "model_builders.hpp"
 #include "volcomp/model/machine_model.hpp"
 

@@ -35,6 +35,7 @@
 
 #include <gtest/gtest.h>
 
+#include "volcomp/model/composition.hpp"
 #include "volcomp/model/machine_model.hpp"
 
 namespace volcomp::model {
@@ -511,6 +512,12 @@ TEST_P(Component, MatchesHandDerivation) {
     // A single rotation's angular error is exactly its angle (both modes).
     EXPECT_LT((e.angularErrorRad - c.angular).norm(), 1e-18);
   }
+  // The reference composition gives the same (it forms p - p0 from the same positions).
+  const PointError reference = evaluateReference(model, q);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(reference.errorMm[i], c.error[i], c.tolerance + 2e-13) << "reference " << i;
+  }
+  EXPECT_LT((reference.angularErrorRad - c.angular).norm(), 1e-18);
   // And the compensation offset puts the tool on the nominal point.
   const OffsetSolution o = solveOffset(model, ws, q);
   EXPECT_TRUE(o.converged);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -78,6 +79,70 @@ class OutputFile {
   bool committed_ = false;
 };
 
+// The compute part: errors and compensation offsets of a chunk of rows through the model's batch
+// paths (evaluateBatch, solveOffsetBatch: four points per SIMD register), then one output row per
+// point. The buffers are allocated once per file.
+class PointsBatch {
+ public:
+  static constexpr std::size_t kCapacity = 4096;
+
+  PointsBatch(const model::MachineModel& model, const model::Directions& directions,
+              model::EvalMode mode)
+      : model_(model), mode_(mode), directions_(kCapacity, directions) {
+    options_.mode = mode;
+    points_.reserve(kCapacity);
+    lines_.reserve(kCapacity);
+    errors_.resize(kCapacity);
+    offsets_.resize(kCapacity);
+  }
+
+  bool full() const { return points_.size() == kCapacity; }
+  void add(const Eigen::Vector3d& qMm, std::size_t line) {
+    points_.push_back(qMm);
+    lines_.push_back(line);
+  }
+
+  /// Evaluates the rows added since the last flush, appends them to `out` and counts them in
+  /// `summary`.
+  void flush(std::string& out, PointsSummary& summary) {
+    const std::size_t n = points_.size();
+    const std::span<const model::Directions> directions(directions_.data(), n);
+    model::evaluateBatch(model_, ws_, points_, std::span(errors_.data(), n), mode_, directions);
+    model::solveOffsetBatch(model_, ws_, points_, std::span(offsets_.data(), n), directions,
+                            options_);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d& q = points_[i];
+      const model::PointError& e = errors_[i];
+      const model::OffsetSolution& o = offsets_[i];
+      ++summary.rows;
+      if (e.clampedAxes != 0 && summary.clampedRows++ == 0) summary.firstClampedLine = lines_[i];
+      if (!o.converged && summary.notConvergedRows++ == 0) {
+        summary.firstNotConvergedLine = lines_[i];
+      }
+      for (double v : {q.x(), q.y(), q.z(), e.errorMm.x(), e.errorMm.y(), e.errorMm.z(),
+                       e.angularErrorRad.x(), e.angularErrorRad.y(), e.angularErrorRad.z(),
+                       o.offsetMm.x(), o.offsetMm.y(), o.offsetMm.z()}) {
+        appendDouble(out, v + 0.0);  // + 0.0 turns -0 into 0
+        out += ',';
+      }
+      out.back() = '\n';
+    }
+    points_.clear();
+    lines_.clear();
+  }
+
+ private:
+  const model::MachineModel& model_;
+  model::EvalMode mode_;
+  model::OffsetOptions options_;
+  model::Workspace ws_;
+  std::vector<model::Directions> directions_;  // the same for every row
+  std::vector<Eigen::Vector3d> points_;
+  std::vector<std::size_t> lines_;
+  std::vector<model::PointError> errors_;
+  std::vector<model::OffsetSolution> offsets_;
+};
+
 }  // namespace
 
 PointsSummary evaluatePointsFile(const model::MachineModel& model,
@@ -103,10 +168,17 @@ PointsSummary evaluatePointsFile(const model::MachineModel& model,
   OutputFile out(outPath);
   out.buffer() += "x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz\n";
   const bool progress = isatty(STDERR_FILENO) == 1;
-  model::Workspace ws;
-  model::OffsetOptions offsetOptions;
-  offsetOptions.mode = mode;
+  PointsBatch batch(model, directions, mode);
   PointsSummary summary;
+  std::size_t lastProgress = 0;
+  const auto flush = [&] {
+    batch.flush(out.buffer(), summary);
+    out.flushIfLarge();
+    if (progress && summary.rows / kProgressEvery != lastProgress / kProgressEvery) {
+      std::cerr << "\rvolcomp eval: " << summary.rows << " rows" << std::flush;
+      lastProgress = summary.rows;
+    }
+  };
   while (std::getline(in, line)) {
     ++lineNumber;
     if (trim(line).empty()) continue;
@@ -118,27 +190,10 @@ PointsSummary evaluatePointsFile(const model::MachineModel& model,
       throw config::ConfigError(inPath, lineKey(lineNumber),
                                 "expected three finite numbers x,y,z (mm), got " + shown(line));
     }
-    const Eigen::Vector3d qMm(q[0], q[1], q[2]);
-    const model::PointError e = model::evaluate(model, ws, qMm, directions, mode);
-    const model::OffsetSolution o = model::solveOffset(model, ws, qMm, directions, offsetOptions);
-    ++summary.rows;
-    if (e.clampedAxes != 0 && summary.clampedRows++ == 0) summary.firstClampedLine = lineNumber;
-    if (!o.converged && summary.notConvergedRows++ == 0) {
-      summary.firstNotConvergedLine = lineNumber;
-    }
-    std::string& b = out.buffer();
-    for (double v : {q[0], q[1], q[2], e.errorMm.x(), e.errorMm.y(), e.errorMm.z(),
-                     e.angularErrorRad.x(), e.angularErrorRad.y(), e.angularErrorRad.z(),
-                     o.offsetMm.x(), o.offsetMm.y(), o.offsetMm.z()}) {
-      appendDouble(b, v + 0.0);  // + 0.0 turns -0 into 0
-      b += ',';
-    }
-    b.back() = '\n';
-    out.flushIfLarge();
-    if (progress && summary.rows % kProgressEvery == 0) {
-      std::cerr << "\rvolcomp eval: " << summary.rows << " rows" << std::flush;
-    }
+    batch.add(Eigen::Vector3d(q[0], q[1], q[2]), lineNumber);
+    if (batch.full()) flush();
   }
+  flush();
   if (in.bad()) throw config::ConfigError(inPath, lineKey(lineNumber + 1), "read failed");
   out.commit();
   if (progress && summary.rows >= kProgressEvery) {

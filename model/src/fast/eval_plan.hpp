@@ -5,6 +5,7 @@
 // with the group's coefficients interleaved per interval so that they are read from one place.
 
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "piecewise.hpp"
@@ -91,9 +92,20 @@ struct EvalPlan {
   const Kernels* kernels = nullptr;
 };
 
-/// The kernels built for baseline x86-64 (SSE2) or the target's defaults, whatever the CPU: what
-/// CPUs without AVX2 and FMA run, exposed so that a test can compare it with the dispatched set.
+/// The kernels for this CPU (kernels.cpp): AVX2 + FMA where the CPU has them and they were
+/// compiled in, the baseline otherwise.
+const Kernels& selectKernels() noexcept;
+
+/// The kernels compiled for the compiler's baseline (SSE2 on x86-64, NEON on AArch64, scalar
+/// code elsewhere), whatever the CPU: what CPUs without AVX2 run, exposed so that a test can
+/// compare them with the dispatched set.
 const Kernels& genericKernels() noexcept;
+
+/// The plan of a model: tables grouped per axis, travel limits, the chain order; plan->kernels
+/// is selectKernels(). d_K and d_K - e_K are the axis directions (the second at full precision).
+std::shared_ptr<const EvalPlan> buildPlan(const MachineModelSpec& spec, const Topology& topology,
+                                          const std::array<Eigen::Vector3d, 3>& direction,
+                                          const std::array<Eigen::Vector3d, 3>& directionMinusUnit);
 
 struct PlanAccess {
   static const EvalPlan& plan(const MachineModel& model) noexcept { return *model.plan_; }

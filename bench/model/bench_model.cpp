@@ -18,6 +18,14 @@ using bench::fullModel;
 using bench::kPoints;
 using bench::sweep;
 
+// The sweep's points: items processed, and `ns_per_point` (CPU time).
+void countPoints(benchmark::State& state) {
+  state.SetItemsProcessed(state.iterations() * kPoints);
+  state.counters["ns_per_point"] =
+      benchmark::Counter(static_cast<double>(state.iterations() * kPoints),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 void BM_Evaluate(benchmark::State& state, EvalMode mode) {
   const MachineModel model = fullModel();
   const std::vector<Eigen::Vector3d> points = sweep();
@@ -28,10 +36,7 @@ void BM_Evaluate(benchmark::State& state, EvalMode mode) {
       benchmark::DoNotOptimize(e);
     }
   }
-  state.SetItemsProcessed(state.iterations() * kPoints);
-  state.counters["ns_per_point"] =
-      benchmark::Counter(static_cast<double>(state.iterations() * kPoints),
-                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  countPoints(state);
 }
 
 void BM_EvaluateExact(benchmark::State& state) {
@@ -52,10 +57,7 @@ void BM_EvaluateBatch(benchmark::State& state, EvalMode mode) {
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
-  state.SetItemsProcessed(state.iterations() * kPoints);
-  state.counters["ns_per_point"] =
-      benchmark::Counter(static_cast<double>(state.iterations() * kPoints),
-                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  countPoints(state);
 }
 
 void BM_EvaluateBatchExact(benchmark::State& state) {
@@ -77,10 +79,7 @@ void BM_SolveOffset(benchmark::State& state) {
       benchmark::DoNotOptimize(o);
     }
   }
-  state.SetItemsProcessed(state.iterations() * kPoints);
-  state.counters["ns_per_point"] =
-      benchmark::Counter(static_cast<double>(state.iterations() * kPoints),
-                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  countPoints(state);
   state.counters["iterations_per_point"] =
       static_cast<double>(iterations) / static_cast<double>(state.iterations() * kPoints);
 }
@@ -97,10 +96,7 @@ void BM_SolveOffsetBatch(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
-  state.SetItemsProcessed(state.iterations() * kPoints);
-  state.counters["ns_per_point"] =
-      benchmark::Counter(static_cast<double>(state.iterations() * kPoints),
-                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  countPoints(state);
 }
 
 void BM_EvaluateMotionOnly(benchmark::State& state) {
@@ -113,9 +109,7 @@ void BM_EvaluateMotionOnly(benchmark::State& state) {
       benchmark::DoNotOptimize(values);
     }
   }
-  state.counters["ns_per_point"] =
-      benchmark::Counter(static_cast<double>(state.iterations() * kPoints),
-                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  countPoints(state);
 }
 
 BENCHMARK(BM_EvaluateExact);

@@ -16,13 +16,17 @@ namespace {
 
 using CountAllocations = volcomp::testutil::AllocationScope;
 
+// Where the vector of CounterWorks goes: a volatile store, so that the compiler cannot elide
+// the allocation (Clang removes a new/delete pair whose result is not used otherwise).
+std::vector<double>* volatile g_allocated = nullptr;
+
 TEST(Allocation, CounterWorks) {
   std::uint64_t seen = 0;
   {
     CountAllocations counter;
-    auto* p = new std::vector<double>(10);
+    g_allocated = new std::vector<double>(10);
     seen = counter.count();
-    delete p;
+    delete g_allocated;
   }
   EXPECT_GE(seen, 2U);
 }

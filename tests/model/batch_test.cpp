@@ -31,6 +31,16 @@ void expectSame(const Eigen::Vector3d& batch, const Eigen::Vector3d& single, con
   }
 }
 
+void expectSameMotion(const MotionValues& batch, const MotionValues& single) {
+  for (int c = 0; c < 18; ++c) {
+    if (std::isnan(single[c])) {
+      EXPECT_TRUE(std::isnan(batch[c])) << "motion " << c;
+    } else {
+      EXPECT_NEAR(batch[c], single[c], kTolerance) << "motion " << c;
+    }
+  }
+}
+
 Directions randomDirections(std::mt19937& rng) {
   std::uniform_int_distribution<int> d(-1, 1);
   return {static_cast<Direction>(d(rng)), static_cast<Direction>(d(rng)),
@@ -60,16 +70,8 @@ void compareWithEvaluate(const MachineModel& model, const std::vector<Eigen::Vec
     expectSame(out[i].angularErrorRad, expected.angularErrorRad, "angularErrorRad");
     EXPECT_EQ(out[i].clampedAxes, expected.clampedAxes);
   }
-  if (!points.empty()) {
-    // ws.motion holds the last point's motion values, as after evaluate().
-    for (int c = 0; c < 18; ++c) {
-      if (std::isnan(single.motion[c])) {
-        EXPECT_TRUE(std::isnan(ws.motion[c]));
-      } else {
-        EXPECT_NEAR(ws.motion[c], single.motion[c], kTolerance) << "motion " << c;
-      }
-    }
-  }
+  // ws.motion holds the last point's motion values, as after evaluate().
+  if (!points.empty()) expectSameMotion(ws.motion, single.motion);
 }
 
 // solveOffsetBatch over `points` against solveOffset() of each: the same offset (1e-12 mm), the
@@ -95,16 +97,8 @@ void compareWithSolveOffset(const MachineModel& model, const std::vector<Eigen::
       EXPECT_FALSE(std::isfinite(out[i].residualMm));
     }
   }
-  if (!points.empty()) {
-    // ws.motion holds the last point's motion values at its last evaluated position.
-    for (int c = 0; c < 18; ++c) {
-      if (std::isnan(single.motion[c])) {
-        EXPECT_TRUE(std::isnan(ws.motion[c]));
-      } else {
-        EXPECT_NEAR(ws.motion[c], single.motion[c], kTolerance) << "motion " << c;
-      }
-    }
-  }
+  // ws.motion holds the last point's motion values at its last evaluated position.
+  if (!points.empty()) expectSameMotion(ws.motion, single.motion);
 }
 
 // Every size from an empty batch through several blocks, with and without directions, with

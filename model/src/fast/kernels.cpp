@@ -16,10 +16,12 @@
 // instruction counts. Without the library (header-only use) Highway brings nothing over the two
 // pragmas below. Why not its vectors or xsimd's for the lanes: see simd.hpp.
 
-// GCC notes that the four-lane vectors are passed differently with and without AVX (-Wpsabi):
-// they only cross functions that are inlined or local to one build's namespace, so no calling
-// convention crosses a boundary.
-#if defined(__GNUC__) && !defined(__clang__)
+// GCC and Clang note that the four-lane vectors are passed differently with and without AVX
+// (-Wpsabi): they only cross functions that are inlined or local to one build's namespace, so no
+// calling convention crosses a boundary.
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wpsabi"
+#elif defined(__GNUC__)
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 

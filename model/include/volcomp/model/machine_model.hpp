@@ -1,12 +1,19 @@
 #pragma once
-/// The 3-axis volumetric error model (spec sections 3, 4, 6): an immutable MachineModel, a
-/// preallocated Workspace, and free evaluation functions `algo(model, workspace, q)` in the style
-/// of Pinocchio's Model/Data. Evaluation is noexcept and never allocates.
+/// The 3-axis volumetric error model (model format sections 3, 4, 6): an immutable MachineModel,
+/// a preallocated Workspace, and free evaluation functions `algo(model, workspace, q)` in the
+/// style of Pinocchio's Model/Data. Evaluation is noexcept and never allocates.
 ///
 /// Frames: F machine frame (bed), W workpiece, T tool tip. `frameMworkpiece` = H_FW,
-/// `frameMtool` = H_FT, `workpieceMtool` = H_WT = H_FW^-1 H_FT.
+/// `frameMtool` = H_FT, `workpieceMtool` = H_WT = H_FW^-1 H_FT (composition.hpp writes them out).
 /// Position error E(q) = p(q) - p0(q) in mm in the workpiece frame, p(q) = translation of H_WT plus
 /// grid terms, p0(q) = q + t - w. Angular error: rotation vector (log map) of rot(H_WT), rad.
+/// Commanded positions q and offsets o are machine-axis positions in mm.
+///
+/// What these functions compute is defined by the reference composition (composition.hpp:
+/// evaluateReference, one homogeneous transform per carriage). They compute it by faster paths
+/// (a flattened table plan, the chain in deviation form so that E keeps its own relative
+/// precision, short angle series, four points per SIMD register for the batch functions), held
+/// to the reference by the tests: 1e-11 mm and 1e-14 rad.
 
 #include <array>
 #include <cstdint>
@@ -46,16 +53,14 @@ struct MachineModelSpec {
 };
 
 enum class EvalMode : std::uint8_t {
-  /// Exact rigid-body composition (the reference).
+  /// The rigid-body composition: E(q) and the angular error as evaluateReference defines them.
   Exact,
-  /// Small-displacement evaluation: the angular error to first order (the sum of the tool-side
-  /// error angles (EA, EB, EC) minus the workpiece-side ones: no matrix products, no log map),
-  /// differing from Exact by O(|w|^2), a few 1e-6 rad at 1e-3 rad angles. The position is
-  /// composed as in Exact: a second-order expansion v + w x v + 1/2 w x (w x v) (with the
-  /// ZYX-product correction) was measured to miss by up to 7e-6 mm with all angles at 1e-3 rad on
-  /// 2 m arms (third-order terms, |w|^3 |v| / 6 per carriage), outside the 1e-6 mm the spec asks
-  /// for, while the exact rotation costs no more with its short small-angle series. So E agrees
-  /// with Exact to rounding (tested), and solveOffset gives the same offset in both modes.
+  /// Small-displacement angular error: the sum of the tool-side error angles (EA, EB, EC) minus
+  /// the workpiece-side ones, which differs from Exact's log map by O(|w|^2) (a few 1e-6 rad at
+  /// 1e-3 rad angles). The position is composed exactly, as in Exact (a second-order expansion of
+  /// the rotations leaves third-order terms of |w|^3 |v| / 6 per carriage, 7e-6 mm with every
+  /// angle at 1e-3 rad on 2 m arms, beyond the format's 1e-6 mm for this mode), so E and
+  /// solveOffset are the same in both modes.
   FirstOrder,
 };
 
@@ -113,14 +118,11 @@ class MachineModel {
   friend struct detail::PlanAccess;
 };
 
-/// Preallocated scratch space for evaluations (one per thread). evaluate() and solveOffset() leave
-/// the component values of the last evaluated point in `motion`; `rotation` and `translationMm`
-/// are reserved scratch whose contents are unspecified (the composition keeps its intermediate
-/// values in registers).
+/// Per-thread evaluation state (one per thread; the model itself is shared). Every evaluation
+/// leaves the 18 motion-error values (internal units, motionIndex order) of the last point it
+/// evaluated in `motion`.
 struct Workspace {
   MotionValues motion{};
-  std::array<Eigen::Matrix3d, 3> rotation;       ///< reserved scratch (see above)
-  std::array<Eigen::Vector3d, 3> translationMm;  ///< reserved scratch (see above)
 };
 
 /// Evaluate the 18 motion-error functions at q (clamped to travel), writing `values`.
@@ -144,11 +146,11 @@ PointError evaluate(const MachineModel& model, Workspace& ws, const Eigen::Vecto
                     EvalMode mode = EvalMode::Exact) noexcept;
 
 /// E(q) and the angular error of many points with the model's own tool offset: out[i] is what
-/// evaluate(model, ws, qMm[i], directions[i], mode) returns, to rounding (a few 1e-16 relative).
-/// Built for throughput (NC programs, grids, calibration residuals): four points are composed side
-/// by side in the lanes of one SIMD register (AVX2 where the CPU has it); a block of four in which
-/// a point's nine error angles are not all small (the sum of their squares reaches (1e-2 rad)^2),
-/// or a value is not finite, is evaluated point by point.
+/// evaluate(model, ws, qMm[i], directions[i], mode) returns, to rounding (the tests hold it to
+/// 1e-12 mm and rad). For throughput (error maps, NC programs, calibration residuals): four points
+/// are evaluated side by side in the lanes of a SIMD register; a block of four in which a point's
+/// error angles are large (the sum of their squares reaches (1e-2 rad)^2) or a value is not
+/// finite is evaluated point by point.
 /// `directions` is empty (every direction Unknown) or gives the direction of point i at i (points
 /// beyond its end take Unknown). Evaluates min(qMm.size(), out.size()) points; leaves the motion
 /// values of the last one in ws.motion, as evaluate() does.

@@ -1,5 +1,5 @@
 #pragma once
-/// Basic vocabulary of the volumetric error model (see shared/spec/model.md).
+/// Basic vocabulary of the volumetric error model (docs/model.md).
 /// Units inside the model are always mm for lengths and rad for angles; the config layer converts.
 
 #include <array>

@@ -6,6 +6,8 @@ set -euo pipefail
 packages=(
   # toolchain
   g++ cmake ninja-build pkg-config ccache clang-format git
+  # Clang: the model core is also built and tested with it (tests/model/portable/check.sh)
+  clang
   # libraries
   libeigen3-dev libmodbus-dev libasio-dev nlohmann-json3-dev libsystemd-dev
   libceres-dev libcli11-dev libspdlog-dev libfmt-dev

@@ -2,18 +2,22 @@
 
 #include <utility>
 
+#include "volcomp/config/printable.hpp"
+
 namespace volcomp::config {
 namespace {
 
 std::string composeWhat(const std::string& file, const std::string& keyPath,
                         const std::string& message) {
-  std::string what = file.empty() ? std::string("<input>") : file;
+  constexpr std::size_t kPartBytes = 512;
+  constexpr std::size_t kMessageBytes = 2048;
+  std::string what = file.empty() ? std::string("<input>") : printable(file, kPartBytes);
   what += ": ";
   if (!keyPath.empty()) {
-    what += keyPath;
+    what += printable(keyPath, kPartBytes);
     what += ": ";
   }
-  what += message;
+  what += printable(message, kMessageBytes);
   return what;
 }
 

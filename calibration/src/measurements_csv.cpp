@@ -8,11 +8,18 @@
 #include <sstream>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/printable.hpp"
+#include "volcomp/config/text_input.hpp"
 
 namespace volcomp::calibration {
 namespace {
 
 using config::ConfigError;
+using config::quoted;
+
+// A calibration with more points than this needs a Jacobian of several GB; a file with more rows
+// is refused while it is read, before the memory is spent.
+constexpr std::size_t kMaxMeasurements = 1000000;
 
 std::string trim(const std::string& text) {
   const auto first = text.find_first_not_of(" \t\r");
@@ -55,7 +62,7 @@ double parseNumber(const std::string& text, const std::string& file, int line,
   const auto [pointer, error] = std::from_chars(begin, end, value);
   if (text.empty() || error != std::errc() || pointer != end || !std::isfinite(value)) {
     throw ConfigError(file, linePath(line) + ", column " + column,
-                      "expected a finite number, got \"" + text + "\"");
+                      "expected a finite number, got " + quoted(text));
   }
   return value;
 }
@@ -65,13 +72,14 @@ double parseNumber(const std::string& text, const std::string& file, int line,
 MeasurementSet parseMeasurementsCsv(std::istream& input, const std::string& file) {
   MeasurementSet set;
   set.file = file;
-  std::string text;
+  config::LineReader lines(input, file);
+  std::string_view text;
   int lineNumber = 0;
   std::vector<std::string> header;
   std::map<std::string, std::size_t> column;
-  while (std::getline(input, text)) {
-    ++lineNumber;
-    const std::string line = trim(text);
+  while (lines.next(text)) {
+    lineNumber = static_cast<int>(lines.lineNumber());
+    const std::string line = trim(std::string(text));
     if (line.empty() || line[0] == '#') continue;
     if (header.empty()) {
       header = splitFields(line);
@@ -79,12 +87,13 @@ MeasurementSet parseMeasurementsCsv(std::istream& input, const std::string& file
         const std::string& name = header[c];
         if (!isKnownColumn(name)) {
           throw ConfigError(file, linePath(lineNumber),
-                            "unknown column \"" + name +
-                                "\" (expected x,y,z,ex,ey,ez and optionally tx,ty,tz, ea,eb,ec, "
+                            "unknown column " + quoted(name) +
+                                " (expected x,y,z,ex,ey,ez and optionally tx,ty,tz, ea,eb,ec, "
                                 "weight, q1..q9; ox,oy,oz are ignored)");
         }
         if (!column.emplace(name, c).second) {
-          throw ConfigError(file, linePath(lineNumber), "column \"" + name + "\" appears twice");
+          throw ConfigError(file, linePath(lineNumber),
+                            "column " + quoted(name) + " appears twice");
         }
       }
       for (const char* required : {"x", "y", "z", "ex", "ey", "ez"}) {
@@ -140,8 +149,13 @@ MeasurementSet parseMeasurementsCsv(std::istream& input, const std::string& file
       m.weight = value("weight");
       if (!(m.weight > 0.0)) {
         throw ConfigError(file, linePath(lineNumber) + ", column weight",
-                          "expected a weight > 0, got " + fields[column.at("weight")]);
+                          "expected a weight > 0, got " + quoted(fields[column.at("weight")]));
       }
+    }
+    if (set.points.size() == kMaxMeasurements) {
+      throw ConfigError(file, linePath(lineNumber),
+                        "more than " + std::to_string(kMaxMeasurements) +
+                            " measurements: thin the data out before calibrating");
     }
     set.points.push_back(std::move(m));
   }
@@ -152,8 +166,7 @@ MeasurementSet parseMeasurementsCsv(std::istream& input, const std::string& file
 }
 
 MeasurementSet readMeasurementsCsv(const std::string& path) {
-  std::ifstream input(path);
-  if (!input) throw ConfigError(path, "", "cannot open the measurement file");
+  std::ifstream input = config::openTextFile(path);
   return parseMeasurementsCsv(input, path);
 }
 

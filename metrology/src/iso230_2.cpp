@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/printable.hpp"
 
 namespace volcomp::metrology {
 namespace {
@@ -155,8 +156,16 @@ Iso230Result evaluateIso230_2(const PositioningRuns& runs) {
   }
   warnAboutTargets(targets, result.warnings);
   if (!runs.ignoredColumns.empty()) {
+    // The names come from the file: quoted, and not more of them than a line can show.
+    constexpr std::size_t kListed = 10;
+    const std::vector<std::string>& ignored = runs.ignoredColumns;
     std::string list;
-    for (const std::string& name : runs.ignoredColumns) list += (list.empty() ? "" : ", ") + name;
+    for (std::size_t i = 0; i < ignored.size() && i < kListed; ++i) {
+      list += (list.empty() ? "" : ", ") + config::quoted(ignored[i]);
+    }
+    if (ignored.size() > kListed) {
+      list += " and " + std::to_string(ignored.size() - kListed) + " more";
+    }
     result.warnings.push_back("columns not used: " + list);
   }
 

@@ -11,12 +11,19 @@
 #include <set>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/printable.hpp"
+#include "volcomp/config/text_input.hpp"
 #include "volcomp/metrology/positioning_runs.hpp"
 
 namespace volcomp::metrology {
 namespace {
 
 using config::ConfigError;
+using config::quoted;
+
+// An ISO 230-2 test has a few hundred readings; a file with more rows than this is not one, and
+// is refused while it is read, before the memory is spent.
+constexpr std::size_t kMaxReadings = 1000000;
 
 std::string trim(std::string_view text) {
   const auto isSpace = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
@@ -108,7 +115,8 @@ Column classify(const std::string& name) {
 }
 
 std::string where(int line, const std::string& column) {
-  return "line " + std::to_string(line) + (column.empty() ? "" : ", column " + column);
+  return "line " + std::to_string(line) +
+         (column.empty() ? "" : ", column " + config::printable(column, config::kQuotedBytes));
 }
 
 double parseNumber(std::string text, bool decimalComma, const std::string& file, int line,
@@ -120,7 +128,7 @@ double parseNumber(std::string text, bool decimalComma, const std::string& file,
   if (begin != end && *begin == '+') ++begin;
   const auto [pointer, error] = std::from_chars(begin, end, value);
   if (text.empty() || error != std::errc() || pointer != end || !std::isfinite(value)) {
-    throw ConfigError(file, where(line, column), "expected a finite number, got \"" + text + "\"");
+    throw ConfigError(file, where(line, column), "expected a finite number, got " + quoted(text));
   }
   return value;
 }
@@ -137,8 +145,8 @@ model::Direction parseDirection(const std::string& text, const std::string& file
   if (std::find(down.begin(), down.end(), value) != down.end()) return model::Direction::Negative;
   throw ConfigError(file, where(line, column),
                     "expected the approach direction (+, up, forward or \xE2\x86\x91; -, down, "
-                    "reverse or \xE2\x86\x93), got \"" +
-                        text + "\"");
+                    "reverse or \xE2\x86\x93), got " +
+                        quoted(text));
 }
 
 std::string normaliseAxis(const std::string& text) {
@@ -170,7 +178,7 @@ Layout readHeader(const std::string& line, const std::string& file, int lineNumb
                                   const char* example) {
       if (slot) {
         throw ConfigError(file, where(lineNumber, layout.names[i]),
-                          "column \"" + header.name + "\" appears twice");
+                          "column " + quoted(header.name) + " appears twice");
       }
       if (header.unit.empty()) {
         throw ConfigError(file, where(lineNumber, layout.names[i]),
@@ -180,8 +188,8 @@ Layout readHeader(const std::string& line, const std::string& file, int lineNumb
       const std::optional<double> toMm = unitToMm(header.unit);
       if (!toMm) {
         throw ConfigError(file, where(lineNumber, layout.names[i]),
-                          "unknown length unit \"" + header.unit +
-                              "\" (expected nm, um, \xC2\xB5m, mm, m or in)");
+                          "unknown length unit " + quoted(header.unit) +
+                              " (expected nm, um, \xC2\xB5m, mm, m or in)");
       }
       slot = i;
       factor = *toMm;
@@ -189,7 +197,7 @@ Layout readHeader(const std::string& line, const std::string& file, int lineNumb
     const auto plainColumn = [&](std::optional<std::size_t>& slot) {
       if (slot) {
         throw ConfigError(file, where(lineNumber, layout.names[i]),
-                          "column \"" + header.name + "\" appears twice");
+                          "column " + quoted(header.name) + " appears twice");
       }
       slot = i;
     };
@@ -245,10 +253,11 @@ PositioningRuns parsePositioningCsv(std::istream& input, const std::string& file
   const std::string wantedAxis = normaliseAxis(axisFilter);
   std::optional<Layout> layout;
   std::set<std::string> axesSeen;
-  std::string line;
+  config::LineReader lines(input, file);
+  std::string_view line;
   int lineNumber = 0;
-  while (std::getline(input, line)) {
-    ++lineNumber;
+  while (lines.next(line)) {
+    lineNumber = static_cast<int>(lines.lineNumber());
     const std::string text = trim(line);
     if (text.empty() || text.front() == '#') continue;
     if (!layout) {
@@ -267,7 +276,7 @@ PositioningRuns parsePositioningCsv(std::istream& input, const std::string& file
       const std::string axis = normaliseAxis(field(*layout->axis));
       if (axis != "X" && axis != "Y" && axis != "Z") {
         throw ConfigError(file, where(lineNumber, name(*layout->axis)),
-                          "expected the axis X, Y or Z, got \"" + field(*layout->axis) + "\"");
+                          "expected the axis X, Y or Z, got " + quoted(field(*layout->axis)));
       }
       if (!wantedAxis.empty() && axis != wantedAxis) continue;
       axesSeen.insert(axis);
@@ -292,11 +301,16 @@ PositioningRuns parsePositioningCsv(std::istream& input, const std::string& file
     if (run != std::floor(run) || run < 0 || run > 1e6) {
       throw ConfigError(
           file, where(lineNumber, name(*layout->run)),
-          "expected a run number (a whole number >= 0), got \"" + field(*layout->run) + "\"");
+          "expected a run number (a whole number >= 0), got " + quoted(field(*layout->run)));
     }
     sample.run = static_cast<int>(run);
     sample.direction =
         parseDirection(field(*layout->direction), file, lineNumber, name(*layout->direction));
+    if (runs.samples.size() == kMaxReadings) {
+      throw ConfigError(file, where(lineNumber, ""),
+                        "more than " + std::to_string(kMaxReadings) +
+                            " readings: not the data of one positioning test");
+    }
     runs.samples.push_back(sample);
   }
   if (!layout) throw ConfigError(file, "", "no header line (the file is empty)");
@@ -316,8 +330,7 @@ PositioningRuns parsePositioningCsv(std::istream& input, const std::string& file
 }
 
 PositioningRuns readPositioningCsv(const std::string& path, const std::string& axisFilter) {
-  std::ifstream input(path);
-  if (!input) throw ConfigError(path, "", "cannot open the file");
+  std::ifstream input = config::openTextFile(path);
   return parsePositioningCsv(input, path, axisFilter);
 }
 

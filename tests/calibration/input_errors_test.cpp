@@ -62,6 +62,36 @@ TEST(MeasurementCsv, RejectsBadInputNamingLineAndColumn) {
   EXPECT_NE(csvError("x,y,z,ex,ey,ez,q2\n").find("q1..qN"), std::string::npos);
 }
 
+// Issue 13: an unknown column of 100 kB made a 100 kB message, escape sequences and invalid UTF-8
+// went to the terminal as they were. Shown now escaped, quoted and shortened.
+TEST(MeasurementCsv, AnUnknownColumnIsShownEscapedAndShort) {
+  const std::string message =
+      csvError("x,y,z,ex,ey,ez,\x1b[31m\xff" + std::string(100000, 'c') + "\n1,2,3,4,5,6,7\n");
+  EXPECT_LT(message.size(), 400u) << message;
+  EXPECT_NE(message.find("points.csv: line 1: unknown column \"\\x1b[31m\\xffccc"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("...\" (expected x,y,z,ex,ey,ez"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\x1b'), std::string::npos);
+}
+
+// A line of a million columns is refused as a line, not split into a million fields.
+TEST(MeasurementCsv, AMillionColumnLineIsRefused) {
+  std::string text = "x,y,z,ex,ey,ez\n";
+  for (int i = 0; i < 1000000; ++i) text += "0,";
+  text += "0\n";
+  EXPECT_EQ(csvError(text), "points.csv: line 2: longer than 1 MiB: not a line of this format");
+}
+
+TEST(MeasurementCsv, ADirectoryIsNamedAsSuch) {
+  try {
+    readMeasurementsCsv("/");
+    ADD_FAILURE() << "no error";
+  } catch (const config::ConfigError& e) {
+    EXPECT_STREQ(e.what(), "/: is a directory, not a file");
+  }
+}
+
 TEST(MeasurementCsv, MissingFileIsAConfigError) {
   EXPECT_THROW(readMeasurementsCsv("/nonexistent/points.csv"), config::ConfigError);
 }

@@ -145,6 +145,54 @@ TEST(Iso230Refusals, UnequalTargets) {
       << errorOf(table(5, 5, kTargets) + "2,+,62,0\n");
 }
 
+// What the file holds is shown escaped and shortened, in errors and in the list of unused columns
+// (the list also goes into the JSON report, which must stay valid UTF-8).
+TEST(RunsCsv, FileContentIsShownEscapedAndShort) {
+  std::string huge(100000, 'u');
+  try {
+    parse("run,direction,target_mm,deviation_" + huge + "\n");
+    ADD_FAILURE() << "no error";
+  } catch (const config::ConfigError& e) {
+    EXPECT_LT(std::string(e.what()).size(), 600u) << e.what();
+  }
+  try {
+    parse("run,direction,target_mm,deviation_um\n1,\x1b[5m\xc3,0,1\n");
+    ADD_FAILURE() << "no error";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("got \"\\x1b[5m\\xc3\""), std::string::npos) << e.what();
+  }
+  std::ostringstream csv;
+  csv << "run,direction,target_mm,deviation_um";
+  for (int i = 0; i < 12; ++i) csv << ",note\xff" << i;
+  csv << '\n';
+  for (int run = 1; run <= 5; ++run) {
+    for (const char* direction : {"+", "-"}) {
+      for (double target : {0.0, 97.0, 211.0, 305.0, 398.0}) {
+        csv << run << ',' << direction << ',' << target << ',' << 0.1 * run << std::string(12, ',')
+            << '\n';
+      }
+    }
+  }
+  const Iso230Result result = evaluateIso230_2(parse(csv.str()));
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_EQ(result.warnings[0],
+            "columns not used: \"note\\xff0\", \"note\\xff1\", \"note\\xff2\", \"note\\xff3\", "
+            "\"note\\xff4\", \"note\\xff5\", \"note\\xff6\", \"note\\xff7\", \"note\\xff8\", "
+            "\"note\\xff9\" and 2 more");
+}
+
+TEST(RunsCsv, AMillionColumnLineIsRefused) {
+  std::string text = "run,direction,target_mm,deviation_um\n";
+  for (int i = 0; i < 1000000; ++i) text += "1,";
+  text += "1\n";
+  try {
+    parse(text);
+    ADD_FAILURE() << "no error";
+  } catch (const config::ConfigError& e) {
+    EXPECT_STREQ(e.what(), "runs.csv: line 2: longer than 1 MiB: not a line of this format");
+  }
+}
+
 TEST(Iso230Warnings, EvenSpacingFewTargetsPerMetreUnequalRuns) {
   const Iso230Result even = evaluateIso230_2(parse(table(5, 5, {0, 100, 200, 300, 400})));
   ASSERT_EQ(even.warnings.size(), 1u);

@@ -1,11 +1,12 @@
 #include "volcomp/calibration/run_calibrate.hpp"
 
-#include <fstream>
+#include <filesystem>
 #include <ostream>
 
 #include "volcomp/calibration/measurements.hpp"
 #include "volcomp/calibration/report.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/output/output_file.hpp"
 
 namespace volcomp::calibration {
 namespace {
@@ -15,11 +16,11 @@ using config::ConfigError;
 // Option errors are reported like file errors ("command line: --loss: ..."), exit status 2.
 constexpr const char* kCommandLine = "command line";
 
-void writeJsonFile(const std::string& path, const nlohmann::json& document) {
-  std::ofstream file(path);
-  file << document.dump(2) << '\n';
-  file.close();
-  if (!file) throw ConfigError(path, "", "cannot write the file");
+/// Written whole or not at all, never over an input (output::writeOutputFile).
+void writeJsonFile(const std::string& path, const nlohmann::json& document,
+                   const CalibrateOptions& options) {
+  output::writeOutputFile(path, document.dump(2) + '\n',
+                          {options.templatePath, options.measurementsPath});
 }
 
 }  // namespace
@@ -44,6 +45,17 @@ int runCalibrate(const CalibrateOptions& options, std::ostream& out) {
   }
   if (options.method == "linear" && solveOptions.loss != RobustLoss::None) {
     throw ConfigError(kCommandLine, "--loss", "a robust loss needs --method lm (or auto)");
+  }
+  // Refused before the work rather than after it; writeJsonFile checks again.
+  output::refuseInputAsOutput(options.outPath, {options.templatePath, options.measurementsPath});
+  if (!options.reportPath.empty()) {
+    output::refuseInputAsOutput(options.reportPath,
+                                {options.templatePath, options.measurementsPath});
+    std::error_code ec;
+    if (std::filesystem::weakly_canonical(options.outPath, ec) ==
+        std::filesystem::weakly_canonical(options.reportPath, ec)) {
+      throw ConfigError(kCommandLine, "--report", "names the same file as --out");
+    }
   }
   solveOptions.lossScale = options.lossScaleMm;
   solveOptions.rankTolerance = options.rankTolerance;
@@ -85,9 +97,9 @@ int runCalibrate(const CalibrateOptions& options, std::ostream& out) {
   nlohmann::json model = problem->modelJson(fit.parameters);
   // The output must load as an ordinary model file; check it before writing.
   config::parseModel(model, options.outPath);
-  writeJsonFile(options.outPath, model);
+  writeJsonFile(options.outPath, model, options);
   if (!options.reportPath.empty()) {
-    writeJsonFile(options.reportPath, reportJson(fit, problem->parameterInfo(), context));
+    writeJsonFile(options.reportPath, reportJson(fit, problem->parameterInfo(), context), options);
   }
   out << '\n';
   writeSummary(out, fit, problem->parameterInfo(), context);

@@ -113,6 +113,81 @@ TEST(CliPoints, BadRowNamesFileAndLineAndLeavesNoOutput) {
   }
 }
 
+// Issue 13: a bad row used to truncate an existing output first and remove it afterwards. The
+// output is now written beside it and renamed only when every row was good.
+TEST(CliPoints, BadRowLeavesAnExistingOutputAsItWas) {
+  TempDir dir;
+  const std::string model = dir.write("m.json", kModel);
+  const std::string out = dir.write("out.csv", "precious results\n");
+  const std::string in = dir.write("in.csv", "x,y,z\n1,2,3\n1,2\n");
+  const CliRun run =
+      runCli(dir, "eval " + quoted(model) + " --points " + quoted(in) + " --out " + quoted(out));
+  EXPECT_EQ(run.status, 2) << run.err;
+  EXPECT_EQ(readFile(out), "precious results\n");
+  // Nothing else is left in the directory (no temporary file).
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    files += entry.path().filename().string().rfind(".out.csv", 0) == 0 ? 100 : 1;
+  }
+  EXPECT_EQ(files, 5u);  // m.json, out.csv, in.csv, stdout.txt, stderr.txt
+}
+
+TEST(CliPoints, AnOutputThatIsAnInputIsRefusedAndTheInputKept) {
+  TempDir dir;
+  const std::string model = dir.write("m.json", kModel);
+  const std::string points = "x,y,z\n1,2,3\n";
+  const std::string in = dir.write("in.csv", points);
+  for (const std::string& out : {in, (dir.path() / "." / "in.csv").string(), model}) {
+    SCOPED_TRACE(out);
+    const CliRun run =
+        runCli(dir, "eval " + quoted(model) + " --points " + quoted(in) + " --out " + quoted(out));
+    EXPECT_EQ(run.status, 2);
+    EXPECT_EQ(run.errLines(), 1) << run.err;
+    EXPECT_NE(run.err.find(": refusing to write over it"), std::string::npos) << run.err;
+    EXPECT_EQ(readFile(in), points);
+    EXPECT_EQ(readFile(model), kModel);
+  }
+}
+
+TEST(CliPoints, ADeviceAsOutputIsWrittenNotReplaced) {
+  TempDir dir;
+  const std::string model = dir.write("m.json", kModel);
+  const std::string in = dir.write("in.csv", "x,y,z\n1,2,3\n");
+  const CliRun run =
+      runCli(dir, "eval " + quoted(model) + " --points " + quoted(in) + " --out /dev/null");
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_TRUE(std::filesystem::is_character_file("/dev/null"));
+}
+
+TEST(CliPoints, ADirectoryAsInputIsNamedAsSuch) {
+  TempDir dir;
+  const std::string model = dir.write("m.json", kModel);
+  const std::string in = dir.path().string();
+  const CliRun run = runCli(dir, "eval " + quoted(model) + " --points " + quoted(in) + " --out " +
+                                     quoted((dir.path() / "o.csv").string()));
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find(in + ": is a directory, not a file"), std::string::npos) << run.err;
+}
+
+// Whatever a bad row holds, the message shows it escaped and shortened: no terminal escape
+// reaches the terminal, no invalid UTF-8, no 100 kB line.
+TEST(CliPoints, ABadRowIsShownEscapedAndShortened) {
+  TempDir dir;
+  const std::string model = dir.write("m.json", kModel);
+  const std::string in = dir.write(
+      "in.csv", "x,y,z\n\x1b[2J\x1b]0;owned\x07,\xff\xfe," + std::string(100000, '9') + "x\n");
+  const std::string out = (dir.path() / "out.csv").string();
+  const CliRun run =
+      runCli(dir, "eval " + quoted(model) + " --points " + quoted(in) + " --out " + quoted(out));
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.errLines(), 1) << run.err;
+  EXPECT_EQ(run.err.find('\x1b'), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find('\xff'), std::string::npos) << run.err;
+  EXPECT_LT(run.err.size(), 400u);
+  EXPECT_NE(run.err.find("got \"\\x1b[2J\\x1b]0;owned\\x07,\\xff\\xfe,999"), std::string::npos)
+      << run.err;
+}
+
 TEST(CliPoints, BadHeader) {
   TempDir dir;
   const std::string model = dir.write("m.json", kModel);

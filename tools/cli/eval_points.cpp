@@ -2,82 +2,21 @@
 
 #include <unistd.h>
 
-#include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <span>
-#include <string_view>
 #include <vector>
 
 #include "cli_support.hpp"
-#include "volcomp/config/config_error.hpp"
+#include "points_csv.hpp"
+#include "volcomp/config/text_input.hpp"
+#include "volcomp/output/output_file.hpp"
 
 namespace volcomp::cli {
 namespace {
 
 constexpr std::size_t kProgressEvery = 100000;
 constexpr std::size_t kFlushBytes = 1 << 20;
-
-std::string lineKey(std::size_t line) {
-  return "line " + std::to_string(line);
-}
-
-std::string shown(std::string_view line) {
-  std::string s(trim(line));
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
-  return "\"" + s + "\"";
-}
-
-bool isHeader(std::string_view line) {
-  if (line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);  // UTF-8 BOM from spreadsheets
-  const std::vector<std::string_view> fields = splitFields(line);
-  if (fields.size() != 3) return false;
-  const char* names[3] = {"x", "y", "z"};
-  for (std::size_t i = 0; i < 3; ++i) {
-    if (fields[i].size() != 1 || (fields[i][0] | 0x20) != names[i][0]) return false;
-  }
-  return true;
-}
-
-class OutputFile {
- public:
-  explicit OutputFile(const std::string& path) : path_(path), stream_(path, std::ios::binary) {
-    if (!stream_) throw config::ConfigError(path, "", "cannot open for writing");
-    buffer_.reserve(kFlushBytes + 4096);
-  }
-  ~OutputFile() {
-    if (!committed_) {
-      stream_.close();
-      std::error_code ignored;
-      std::filesystem::remove(path_, ignored);
-    }
-  }
-  OutputFile(const OutputFile&) = delete;
-  OutputFile& operator=(const OutputFile&) = delete;
-
-  std::string& buffer() { return buffer_; }
-  void flushIfLarge() {
-    if (buffer_.size() >= kFlushBytes) flush();
-  }
-  void commit() {
-    flush();
-    stream_.close();
-    if (!stream_) throw config::ConfigError(path_, "", "write failed");
-    committed_ = true;
-  }
-
- private:
-  void flush() {
-    stream_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
-    if (!stream_) throw config::ConfigError(path_, "", "write failed");
-    buffer_.clear();
-  }
-  std::string path_;
-  std::ofstream stream_;
-  std::string buffer_;
-  bool committed_ = false;
-};
 
 // The compute part: errors and compensation offsets of a chunk of rows through the model's batch
 // paths (evaluateBatch, solveOffsetBatch: four points per SIMD register), then one output row per
@@ -147,54 +86,38 @@ class PointsBatch {
 
 PointsSummary evaluatePointsFile(const model::MachineModel& model,
                                  const model::Directions& directions, model::EvalMode mode,
-                                 const std::string& inPath, const std::string& outPath) {
-  std::ifstream in(inPath, std::ios::binary);
-  if (!in) throw config::ConfigError(inPath, "", "cannot open file");
-  std::string line;
-  std::size_t lineNumber = 0;
-  bool haveHeader = false;
-  while (!haveHeader && std::getline(in, line)) {
-    ++lineNumber;
-    if (trim(line).empty()) continue;
-    if (!isHeader(line)) {
-      throw config::ConfigError(inPath, lineKey(lineNumber),
-                                "expected the header x,y,z, got " + shown(line));
-    }
-    haveHeader = true;
-  }
-  if (!haveHeader)
-    throw config::ConfigError(inPath, "", "expected the header x,y,z, got an empty file");
-
-  OutputFile out(outPath);
-  out.buffer() += "x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz\n";
+                                 const std::string& inPath, const std::string& outPath,
+                                 const std::vector<std::string>& otherInputs) {
+  std::vector<std::filesystem::path> inputs{inPath};
+  inputs.insert(inputs.end(), otherInputs.begin(), otherInputs.end());
+  std::ifstream in = config::openTextFile(inPath);
+  PointsCsvReader reader(in, inPath);
+  // Prepared before the first row is evaluated: a bad --out fails at once, not after the work.
+  output::OutputFile out(outPath, inputs);
+  std::string buffer = "x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz\n";
+  buffer.reserve(kFlushBytes + 4096);
   const bool progress = isatty(STDERR_FILENO) == 1;
   PointsBatch batch(model, directions, mode);
   PointsSummary summary;
   std::size_t lastProgress = 0;
   const auto flush = [&] {
-    batch.flush(out.buffer(), summary);
-    out.flushIfLarge();
+    batch.flush(buffer, summary);
+    if (buffer.size() >= kFlushBytes) {
+      out.stream().write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      buffer.clear();
+    }
     if (progress && summary.rows / kProgressEvery != lastProgress / kProgressEvery) {
       std::cerr << "\rvolcomp eval: " << summary.rows << " rows" << std::flush;
       lastProgress = summary.rows;
     }
   };
-  while (std::getline(in, line)) {
-    ++lineNumber;
-    if (trim(line).empty()) continue;
-    const std::vector<std::string_view> fields = splitFields(line);
-    double q[3] = {0, 0, 0};
-    bool ok = fields.size() == 3;
-    for (std::size_t i = 0; ok && i < 3; ++i) ok = parseDouble(fields[i], q[i]);
-    if (!ok) {
-      throw config::ConfigError(inPath, lineKey(lineNumber),
-                                "expected three finite numbers x,y,z (mm), got " + shown(line));
-    }
-    batch.add(Eigen::Vector3d(q[0], q[1], q[2]), lineNumber);
+  Eigen::Vector3d qMm;
+  while (reader.next(qMm)) {
+    batch.add(qMm, reader.lineNumber());
     if (batch.full()) flush();
   }
   flush();
-  if (in.bad()) throw config::ConfigError(inPath, lineKey(lineNumber + 1), "read failed");
+  out.stream().write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
   out.commit();
   if (progress && summary.rows >= kProgressEvery) {
     std::cerr << "\rvolcomp eval: " << summary.rows << " rows, done\n";

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "volcomp/model/machine_model.hpp"
 
@@ -16,13 +17,15 @@ struct PointsSummary {
   std::size_t firstNotConvergedLine = 0;
 };
 
-/// Reads IN (header `x,y,z`, whitespace and CRLF tolerated, blank lines skipped), writes OUT with
-/// header `x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz` and one row per input row (mm, rad; shortest
-/// round-trip doubles). Throws config::ConfigError naming the file and line on a bad row or an
-/// I/O failure; a partly written OUT is then removed. Progress goes to stderr every 100000 rows
+/// Reads IN (points_csv.hpp), writes OUT with header `x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz` and one
+/// row per input row (mm, rad; shortest round-trip doubles) through output::OutputFile: OUT is
+/// replaced only when every row was good, and never when it is IN or one of `otherInputs` (the
+/// model file). Throws config::ConfigError naming the file and line on a bad row,
+/// output::OutputError when OUT cannot be written. Progress goes to stderr every 100000 rows
 /// when stderr is a terminal.
 PointsSummary evaluatePointsFile(const model::MachineModel& model,
                                  const model::Directions& directions, model::EvalMode mode,
-                                 const std::string& inPath, const std::string& outPath);
+                                 const std::string& inPath, const std::string& outPath,
+                                 const std::vector<std::string>& otherInputs = {});
 
 }  // namespace volcomp::cli

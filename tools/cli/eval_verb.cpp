@@ -156,8 +156,8 @@ int evalPoint(const EvalOptions& options, const model::MachineModel& model,
 
 int evalPoints(const EvalOptions& options, const model::MachineModel& model,
                const model::Directions& directions, std::ostream& err) {
-  const PointsSummary s =
-      evaluatePointsFile(model, directions, evalMode(options), options.points, options.out);
+  const PointsSummary s = evaluatePointsFile(model, directions, evalMode(options), options.points,
+                                             options.out, {options.modelPath});
   if (s.clampedRows > 0) {
     err << "volcomp eval: warning: " << s.clampedRows << " of " << s.rows
         << " points outside the travel (first at " << options.points << " line "

@@ -13,6 +13,7 @@
 #include "volcomp/metrology/controller_files.hpp"
 #include "volcomp/metrology/export_plan.hpp"
 #include "volcomp/metrology/remaining_error.hpp"
+#include "volcomp/output/output_file.hpp"
 
 namespace volcomp::cli {
 namespace {
@@ -65,10 +66,11 @@ std::string um(double mm) {
   return buffer;
 }
 
-void writeFile(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream file(path, std::ios::binary);
-  file << text;
-  if (!file) throw UsageError("--out: cannot write " + path.string());
+/// Every file goes through output::writeOutputFile: written whole or not at all, never over the
+/// model it was made from.
+void writeFile(const ExportOptions& options, const std::filesystem::path& path,
+               const std::string& text) {
+  output::writeOutputFile(path, text, {options.modelPath});
 }
 
 std::filesystem::path outputDirectory(const std::string& out) {
@@ -105,13 +107,13 @@ std::vector<std::string> writeLinuxCnc(const ExportOptions& options, const Expor
     std::ostringstream text;
     metrology::writeLinuxCncCompFile(text, *forward, *reverse, options.compType);
     const std::string name = "joint" + joints[a] + ".comp";
-    writeFile(dir / name, text.str());
+    writeFile(options, dir / name, text.str());
     written.push_back((dir / name).string());
     ini += "\n[JOINT_" + joints[a] + "]\n# axis " + metrology::axisName(forward->input) + ": " +
            forward->components.front() + "\nCOMP_FILE = " + name +
            "\nCOMP_FILE_TYPE = " + std::to_string(options.compType) + "\n";
   }
-  writeFile(dir / "comp.ini", ini);
+  writeFile(options, dir / "comp.ini", ini);
   written.push_back((dir / "comp.ini").string());
   return written;
 }
@@ -138,7 +140,7 @@ std::vector<std::string> writeSiemens(const ExportOptions& options, const Export
             ",axis] >= " + std::to_string(most)};
     std::ostringstream text;
     metrology::writeSiemensLec(text, lec, names, options.encoder, comments);
-    writeFile(dir / "AX_EEC.INI", text.str());
+    writeFile(options, dir / "AX_EEC.INI", text.str());
     written.push_back((dir / "AX_EEC.INI").string());
   }
   if (!cec.empty()) {
@@ -149,7 +151,7 @@ std::vector<std::string> writeSiemens(const ExportOptions& options, const Export
         "enabled in the CEC setting data"};
     std::ostringstream text;
     metrology::writeSiemensCec(text, cec, names, comments);
-    writeFile(dir / "NC_CEC.INI", text.str());
+    writeFile(options, dir / "NC_CEC.INI", text.str());
     written.push_back((dir / "NC_CEC.INI").string());
   }
   return written;
@@ -283,7 +285,7 @@ int runExport(const ExportOptions& options, std::ostream& out) {
     std::ostringstream text;
     metrology::writeComponentCsv(text, *spec, options.component,
                                  metrology::planGrid(*spec, static_cast<model::Axis>(axis), steps));
-    writeFile(options.out, text.str());
+    writeFile(options, options.out, text.str());
     written.push_back(options.out);
   }
   printSummary(options, plan, written, *spec, out);

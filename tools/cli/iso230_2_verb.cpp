@@ -2,8 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <filesystem>
 #include <ostream>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -13,12 +14,20 @@
 #include "volcomp/metrology/iso230_2_json.hpp"
 #include "volcomp/metrology/iso230_2_model.hpp"
 #include "volcomp/metrology/positioning_runs.hpp"
+#include "volcomp/output/output_file.hpp"
 
 namespace volcomp::cli {
 namespace {
 
 using metrology::Iso230Result;
 using metrology::TargetFigures;
+
+/// The files the verb reads, which its outputs must never replace.
+std::vector<std::filesystem::path> inputsOf(const Iso230Options& options) {
+  std::vector<std::filesystem::path> inputs{options.runsPath};
+  if (!options.mergePath.empty()) inputs.emplace_back(options.mergePath);
+  return inputs;
+}
 
 /// mm -> um with 4 significant digits, at most 3 decimals (sub-nm digits mean nothing here).
 std::string um(double valueMm) {
@@ -115,9 +124,7 @@ void writeModelTable(const Iso230Options& options, const Iso230Result& result, s
   spec.motion[static_cast<std::size_t>(index)] =
       metrology::positioningComponent(result, topology, axis);
   const nlohmann::json document = config::writeModel(spec, units);
-  std::ofstream file(options.modelOutPath);
-  file << document.dump(2) << '\n';
-  if (!file) throw UsageError("--model-out: cannot write " + options.modelOutPath);
+  output::writeOutputFile(options.modelOutPath, document.dump(2) + '\n', inputsOf(options));
   out << "\nwrote " << model::motionName(index) << " (values from x\xCC\x84\xE2\x86\x91, "
       << "values_negative from x\xCC\x84\xE2\x86\x93, " << result.targets.size()
       << " positions) to " << options.modelOutPath << ": axis " << result.axis << " is "
@@ -184,9 +191,8 @@ int runIso230(const Iso230Options& options, std::ostream& out, std::ostream& err
   }
   printTable(result, out);
   if (!options.jsonPath.empty()) {
-    std::ofstream file(options.jsonPath);
-    file << metrology::toJson(result).dump(2) << '\n';
-    if (!file) throw UsageError("--json: cannot write " + options.jsonPath);
+    output::writeOutputFile(options.jsonPath, metrology::toJson(result).dump(2) + '\n',
+                            inputsOf(options));
   }
   if (!options.modelOutPath.empty()) writeModelTable(options, result, out);
   return kExitOk;

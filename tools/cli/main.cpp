@@ -15,17 +15,21 @@
 #include "export_verb.hpp"
 #include "iso230_2_verb.hpp"
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/printable.hpp"
 #include "volcomp/model/types.hpp"
+#include "volcomp/output/output_file.hpp"
 
 namespace {
 
-// The contract is one line on stderr; some CLI11 messages span several.
+// The contract is one line on stderr; some CLI11 messages span several. Messages quote the
+// arguments and files they refer to: whatever those hold is shown escaped and bounded, never
+// passed to the terminal as it is.
 std::string oneLine(std::string text) {
   for (char& c : text) {
     if (c == '\n' || c == '\r') c = ' ';
   }
   while (!text.empty() && text.back() == ' ') text.pop_back();
-  return text;
+  return volcomp::config::printable(text, 4096);
 }
 
 }  // namespace
@@ -70,6 +74,9 @@ int main(int argc, char** argv) {
     std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
     return kExitBadInput;
   } catch (const UsageError& e) {
+    std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
+    return kExitBadInput;
+  } catch (const volcomp::output::OutputError& e) {
     std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
     return kExitBadInput;
   } catch (const volcomp::model::ModelError& e) {

@@ -18,9 +18,9 @@ packages=(
   # controller-table tests: LinuxCNC 2.9 (headless, simulated machine; python3 linuxcnc and hal
   # modules) and flock for its one-instance lock
   linuxcnc-uspace util-linux
-  # robustness pass (scripts/robustness.sh): clang with libFuzzer and the sanitizer runtimes;
-  # llvm for the fuzz coverage report (scripts/fuzz-coverage.sh)
-  clang libclang-rt-14-dev llvm
+  # robustness pass (scripts/robustness.sh): clang's libFuzzer and sanitizer runtimes; llvm for
+  # the fuzz coverage report (scripts/fuzz-coverage.sh)
+  libclang-rt-14-dev llvm
 )
 
 SUDO=""

@@ -24,7 +24,7 @@ seconds="${1:-10}"
 sim="$build/tools/sim/volcomp-sim"
 daemon="$build/daemon/volcompd"
 cli="$build/tools/cli/volcomp"
-report_file="${DEMO_REPORT:-$build/demo-report.html}"
+report_file="$(realpath -m "${DEMO_REPORT:-$build/demo-report.html}")"
 
 for exe in "$sim" "$daemon" "$cli"; do
   if [ ! -x "$exe" ]; then
@@ -190,8 +190,10 @@ sys.exit(0 if ok else 1)
 EOF
 
 # ---- the report of this run ---------------------------------------------------------------------
-if "$cli" report "$examples/vmc-xyfz-21.json" --run "$work/run.json" --writes "$work/writes.csv" \
-    --machine "VMC-850 (simulated, demo run)" --out "$report_file" > "$work/report.out" 2> "$work/report.err"; then
+# From the checkout's root, so that the report names the model as config/examples/....
+if (cd "$root" && "$cli" report config/examples/vmc-xyfz-21.json --run "$work/run.json" \
+    --writes "$work/writes.csv" --machine "VMC-850 (simulated, demo run)" --out "$report_file") \
+    > "$work/report.out" 2> "$work/report.err"; then
   echo "report: $report_file"
 else
   echo "demo: the report could not be written:" >&2

@@ -13,7 +13,7 @@ namespace {
 using model::Direction;
 
 // The longer side of a map's plot area, px.
-constexpr double kMapSidePx = 340.0;
+constexpr double kMapSidePx = 300.0;
 
 std::string curveLabel(const ComponentView& component, Direction direction) {
   switch (direction) {

@@ -122,18 +122,17 @@ std::string cards(const Context& context) {
   std::string out;
   if (context.volumeStats) {
     const VolumeStatistics& s = *context.volumeStats;
-    out += card("Volumetric error (model)", fixed(s.maxUm, 1) + "<small> µm max</small>",
-                "RMS " + um(s.rmsUm) + " · uncompensated, over the working volume");
+    out += card("Volumetric error", fixed(s.maxUm, 1) + "<small> µm max</small>",
+                "RMS " + um(s.rmsUm) + " · the model, uncompensated");
   }
   if (const auto& run = context.inputs.run) {
     if (const auto r = reduction(run->total)) {
       const std::int64_t violations = run->limiterViolations.value_or(0);
       const std::string cssClass = violations > 0 ? "bad" : (*r >= 50.0 ? "good" : "warn");
-      out +=
-          card("Live compensation (run)", fixed(*run->total.rmsAfter, 2) + "<small> µm RMS</small>",
-               "from " + um(*run->total.rmsBefore) + " · " + fixed(*r, 0) + "&#8239;% less · " +
-                   std::to_string(violations) + " limiter violations",
-               cssClass);
+      out += card("Live compensation", fixed(*run->total.rmsAfter, 2) + "<small> µm RMS</small>",
+                  "from " + um(*run->total.rmsBefore) + " · " + fixed(*r, 0) + "&#8239;% less · " +
+                      std::to_string(violations) + " limiter violations",
+                  cssClass);
     }
   }
   if (const auto& cal = context.inputs.calibration) {

@@ -56,15 +56,16 @@ std::string runCli(const std::vector<std::string>& args, const fs::path& errFile
   return out;
 }
 
-// The true machine measured on a grid with two tool lengths, noise added: the calibration's
-// input, as tests/e2e/calibration_e2e_test.cpp makes it (smaller here).
+// The true machine measured on a grid (at the template's X nodes, every 50 mm in Y, 9 Z levels)
+// with four tool offsets, noise added: the calibration's input, as
+// tests/e2e/calibration_e2e_test.cpp makes it (half as dense in X here).
 fs::path measure(const fs::path& dir) {
   {
     std::ofstream grid(dir / "grid.csv");
     grid << "x,y,z\n";
-    for (int i = 0; i <= 20; ++i)
+    for (int i = 0; i <= 10; ++i)
       for (int j = 0; j <= 10; ++j)
-        for (int k = 0; k <= 4; ++k) grid << 42.5 * i << ',' << 50 * j << ',' << -125.0 * k << '\n';
+        for (int k = 0; k <= 8; ++k) grid << 85 * i << ',' << 50 * j << ',' << -500 + 62.5 * k << '\n';
   }
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0.0, kNoiseMm);
@@ -239,6 +240,23 @@ TEST_F(ReportInBrowser, ScreenshotOfEverySection) {
     std::ofstream(file, std::ios::binary) << png;
     std::cout << "screenshot " << file.string() << " (" << png.size() / 1024 << " KiB)\n";
   }
+}
+
+// Printed (A4, as the stylesheet asks): every section starts a page of its own, so the PDF has
+// at least one page per section; kept beside the screenshots.
+TEST_F(ReportInBrowser, PrintsOnA4WithASectionPerPage) {
+  const Json pdf = browser_->call("Page.printToPDF",
+                                  {{"printBackground", true}, {"preferCSSPageSize", true}}, 120s);
+  const std::string bytes = testutil::decodeBase64(pdf["data"]);
+  ASSERT_EQ(bytes.substr(0, 5), "%PDF-");
+  std::size_t pages = 0;
+  for (std::size_t at = bytes.find("/Type /Page"); at != std::string::npos;
+       at = bytes.find("/Type /Page", at + 1)) {
+    if (bytes.compare(at, 12, "/Type /Pages") != 0) ++pages;
+  }
+  EXPECT_GE(pages, 7U);
+  std::ofstream(kArtefacts / "report.pdf", std::ios::binary) << bytes;
+  std::cout << "printed: " << pages << " A4 pages, " << bytes.size() / 1024 << " KiB\n";
 }
 
 // Reads a chart back as a reader would: the vertices of the drawn SVG path of one curve, mapped

@@ -1,10 +1,10 @@
 // The report as a person sees it: written by `volcomp report` from a calibration done the way
 // the end-to-end calibration test does it (the simulator's true VMC measured with noise,
-// `volcomp calibrate` with the example template), the ISO 230-2 fixture and a recorded simulator
-// run, then opened from disk in headless Chromium (Debian's `chromium`, DevTools protocol on a
-// pipe). Checks: no console error or warning, no network request, every chart drew marks, a
-// screenshot of each section kept in the build directory, and plotted values equal to the
-// model's.
+// `volcomp calibrate` with the example template), `volcomp iso230-2` of the example laser test
+// of X and a recorded demo run, then opened from disk in headless Chromium (Debian's `chromium`,
+// DevTools protocol on a pipe). Checks: no console error or warning, no network request, every
+// chart drew marks, a screenshot of each section kept in the build directory, and plotted values
+// equal to the model's.
 
 #include <gtest/gtest.h>
 
@@ -65,7 +65,8 @@ fs::path measure(const fs::path& dir) {
     grid << "x,y,z\n";
     for (int i = 0; i <= 10; ++i)
       for (int j = 0; j <= 10; ++j)
-        for (int k = 0; k <= 8; ++k) grid << 85 * i << ',' << 50 * j << ',' << -500 + 62.5 * k << '\n';
+        for (int k = 0; k <= 8; ++k)
+          grid << 85 * i << ',' << 50 * j << ',' << -500 + 62.5 * k << '\n';
   }
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0.0, kNoiseMm);
@@ -109,14 +110,17 @@ class ReportInBrowser : public ::testing::Test {
             "--out", (work / "calibrated.json").string(), "--report",
             (work / "calibration.json").string()},
            work / "calibrate.err");
+    runCli({"iso230-2", (kExamples / "iso230-2-x-runs.csv").string(), "--json",
+            (work / "iso230-2-x.json").string()},
+           work / "iso230-2.err");
     reportPath_ = kArtefacts / "report.html";
-    cliOutput_ = runCli(
-        {"report", (work / "calibrated.json").string(), "--calibration",
-         (work / "calibration.json").string(), "--iso230-2", (kData / "iso230-2-x.json").string(),
-         "--run", (kData / "run-summary.json").string(), "--writes",
-         (kData / "run-writes.csv").string(), "--machine", "VMC-850 (example data)", "--out",
-         reportPath_.string()},
-        work / "report.err");
+    cliOutput_ =
+        runCli({"report", (work / "calibrated.json").string(), "--calibration",
+                (work / "calibration.json").string(), "--iso230-2",
+                (work / "iso230-2-x.json").string(), "--run", (kData / "run-summary.json").string(),
+                "--writes", (kData / "run-writes.csv").string(), "--machine",
+                "VMC-850 (example data)", "--out", reportPath_.string()},
+               work / "report.err");
     calibrated_ = std::make_unique<model::MachineModel>(std::get<model::MachineModelSpec>(
         config::loadModelFile((work / "calibrated.json").string()).spec));
 

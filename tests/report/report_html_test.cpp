@@ -153,6 +153,31 @@ TEST(ReportVerb, WritesTheFileAndSaysWhere) {
   EXPECT_TRUE(contains(testing::readFile(out), "</html>"));
 }
 
+// The reader against the writer: `volcomp iso230-2 --json` of the example laser test.
+TEST(ReportVerb, ReadsWhatIso230TwoWrites) {
+  testing::TempDir dir;
+  const std::string jsonPath = (dir.path() / "x.json").string();
+  const testing::CliRun iso =
+      testing::runCli(dir, "iso230-2 " + testing::quoted(kExamples + "/iso230-2-x-runs.csv") +
+                               " --json " + testing::quoted(jsonPath));
+  ASSERT_EQ(iso.status, 0) << iso.err;
+  Notes notes;
+  const IsoAxis x = loadIsoAxis(jsonPath, notes);
+  EXPECT_TRUE(notes.empty()) << notes.front();
+  EXPECT_EQ(x.axis, "X");
+  EXPECT_EQ(x.runsUp, 5);
+  EXPECT_EQ(x.runsDown, 5);
+  EXPECT_EQ(x.targets.size(), 9U);
+  ASSERT_EQ(x.figures.size(), 12U);
+  const nlohmann::json document = readJsonFile(jsonPath);
+  EXPECT_DOUBLE_EQ(x.figures.back().valueUm,
+                   document["axis_figures"]["accuracy_bidirectional"].get<double>() * 1e3);
+  for (const IsoTarget& t : x.targets) {
+    EXPECT_EQ(t.runsUp.size(), 5U);
+    EXPECT_NEAR(*t.mean, 0.5 * (*t.meanUp + *t.meanDown), 1e-9);
+  }
+}
+
 TEST(ReportVerb, BadInputsGiveOneLineAndStatusTwo) {
   testing::TempDir dir;
   const std::string model = testing::quoted(kExamples + "/vmc-xyfz-21.json");

@@ -3,11 +3,14 @@
 # TRUE error (config/examples/vmc-xyfz-21-true.json), compensated live by volcompd with the
 # calibrated model (vmc-xyfz-21.json) and the example configuration. Shows progress once a second
 # (cycle rate, offsets, error), then stops both and prints the error without and with
-# compensation. Exit status 0 when compensation at least halved the RMS error with no limiter
-# violation and a clean daemon stop, 1 otherwise, 2 when something could not start.
+# compensation. Ends by writing the HTML report of the run (`volcomp report`: the daemon's model,
+# the error without and with compensation, the offsets written) and printing its path.
+# Exit status 0 when compensation at least halved the RMS error with no limiter violation and a
+# clean daemon stop, 1 otherwise, 2 when something could not start.
 #
 # Usage: ./scripts/demo.sh [SECONDS]      (default 10). It first runs ./scripts/setup-debian.sh
 #        and ./scripts/build.sh (BUILD_DIR as for build.sh); DEMO_NO_BUILD=1 skips both.
+#        The report goes to DEMO_REPORT (default: BUILD_DIR/demo-report.html).
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -20,8 +23,10 @@ examples="$root/config/examples"
 seconds="${1:-10}"
 sim="$build/tools/sim/volcomp-sim"
 daemon="$build/daemon/volcompd"
+cli="$build/tools/cli/volcomp"
+report_file="$(realpath -m "${DEMO_REPORT:-$build/demo-report.html}")"
 
-for exe in "$sim" "$daemon"; do
+for exe in "$sim" "$daemon" "$cli"; do
   if [ ! -x "$exe" ]; then
     echo "demo: $exe is missing: run ./scripts/setup-debian.sh and ./scripts/build.sh first" >&2
     exit 2
@@ -44,7 +49,8 @@ trap cleanup EXIT
 # ---- the simulated machine ------------------------------------------------------------------
 # Its stdin takes commands ("status", "quit"); its stdout gives LISTENING, STATUS and the report.
 coproc SIM { exec "$sim" --config "$examples/sim-vmc.json" \
-  --model "$examples/vmc-xyfz-21-true.json" --port 0 2> "$work/sim.err"; }
+  --model "$examples/vmc-xyfz-21-true.json" --port 0 --record "$work/writes.csv" \
+  2> "$work/sim.err"; }
 sim_out="${SIM[0]}"
 sim_in="${SIM[1]}"
 if ! read -r -t 10 -u "$sim_out" listening || [[ "$listening" != "LISTENING tcp "* ]]; then
@@ -152,7 +158,8 @@ while read -r -t 10 -u "$sim_out" line; do
 done
 [ -n "$report" ] || { echo "demo: no report from the simulator" >&2; cat "$work/sim.err" >&2; exit 2; }
 
-python3 - "$report" "$daemon_rc" "$work/volcompd.log" "$compensating" <<'EOF'
+status=0
+python3 - "$report" "$daemon_rc" "$work/volcompd.log" "$compensating" "$work/run.json" <<'EOF' || status=$?
 import json, re, sys
 r, rc = json.loads(sys.argv[1]), int(sys.argv[2])
 log = open(sys.argv[3]).read()
@@ -171,8 +178,26 @@ print(f"  writes {r['writes']} ({r['partial_writes']} partial), limiter violatio
       f"sessions {r['sessions']}, applied offsets at the end {r['applied_offset_mm']} mm")
 if m:
     print(f"  volcompd: {m.group(1)} cycles, {m.group(2)} overruns, exit status {rc}")
+# For the report: the simulator's final line, its snapshot while compensating, the daemon's end.
+run = dict(r, compensating=e, daemon={"exit_status": rc})
+if m:
+    run["daemon"].update(cycles=int(m.group(1)), overruns=int(m.group(2)))
+json.dump(run, open(sys.argv[5], "w"), indent=1)
 ok = (e["rms_compensated_um"] <= 0.5 * e["rms_uncompensated_um"] and r["limiter_violations"] == 0
       and rc == 0 and all(o == 0 for o in r["applied_offset_mm"]))
 print("result: " + ("compensation works" if ok else "FAILED (see above)"))
 sys.exit(0 if ok else 1)
 EOF
+
+# ---- the report of this run ---------------------------------------------------------------------
+# From the checkout's root, so that the report names the model as config/examples/....
+if (cd "$root" && "$cli" report config/examples/vmc-xyfz-21.json --run "$work/run.json" \
+    --writes "$work/writes.csv" --machine "VMC-850 (simulated, demo run)" --out "$report_file") \
+    > "$work/report.out" 2> "$work/report.err"; then
+  echo "report: $report_file"
+else
+  echo "demo: the report could not be written:" >&2
+  cat "$work/report.err" >&2
+  status=1
+fi
+exit "$status"

@@ -11,8 +11,12 @@ packages=(
   # libraries
   libeigen3-dev libmodbus-dev libasio-dev nlohmann-json3-dev libsystemd-dev
   libceres-dev libcli11-dev libspdlog-dev libfmt-dev
+  # the HTML report: Vega, inlined into every report (python3, below, embeds it at build time)
+  libjs-vega
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev socat python3 systemd
+  # the report opened in a headless browser
+  chromium
   # CAN tests in a QEMU guest (this kernel may have no CAN): emulator, busybox, can-utils
   qemu-system-x86 busybox-static can-utils
   # controller-table tests: LinuxCNC 2.9 (headless, simulated machine; python3 linuxcnc and hal

@@ -62,8 +62,8 @@ TEST(Printable, CutsAtACharacterBoundaryWithinTheLimit) {
 }
 
 TEST(Printable, QuotedEscapesQuotesAndIsBounded) {
-  EXPECT_EQ(quoted("say \"hi\""), "\"say \\\"hi\\\"\"");
-  EXPECT_EQ(quoted(std::string(1000, 'a')).size(), kQuotedBytes + 2);
+  EXPECT_EQ(config::quoted("say \"hi\""), "\"say \\\"hi\\\"\"");
+  EXPECT_EQ(config::quoted(std::string(1000, 'a')).size(), kQuotedBytes + 2);
 }
 
 TEST(Printable, PassingTwiceChangesNothing) {

@@ -1,5 +1,5 @@
 // volcomp: command-line access to volumetric error models (verbs `eval`, `check`, `calibrate`,
-// `iso230-2`, `export`).
+// `iso230-2`, `export`, `report`).
 // Errors are caught here only: one line on stderr, exit status 2 for bad arguments or files.
 
 #include <exception>
@@ -14,6 +14,7 @@
 #include "eval_verb.hpp"
 #include "export_verb.hpp"
 #include "iso230_2_verb.hpp"
+#include "report_verb.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/printable.hpp"
 #include "volcomp/model/types.hpp"
@@ -55,6 +56,8 @@ int main(int argc, char** argv) {
   CLI::App* iso230 = addIso230Verb(app, iso230Options);
   ExportOptions exportOptions;
   CLI::App* exportVerb = addExportVerb(app, exportOptions);
+  ReportOptions reportOptions;
+  CLI::App* report = addReportVerb(app, reportOptions);
 
   try {
     app.parse(argc, argv);
@@ -70,6 +73,7 @@ int main(int argc, char** argv) {
     if (calibrate->parsed()) return volcomp::calibration::runCalibrate(calibrateOptions, std::cout);
     if (iso230->parsed()) return runIso230(iso230Options, std::cout, std::cerr);
     if (exportVerb->parsed()) return runExport(exportOptions, std::cout);
+    if (report->parsed()) return runReport(reportOptions, std::cout, std::cerr);
   } catch (const volcomp::config::ConfigError& e) {
     std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
     return kExitBadInput;

@@ -27,10 +27,13 @@ COL_PHASE = 16
 COL_REQUEST = 17
 COL_STATUS = 20
 
-TEST_HAL = """# Signals the test records besides the shipped snippet's: volcompd's heartbeat and status (its
-# optional outputs) and the test's phase marker.
+TEST_HAL = """# Signals the test records besides the shipped snippet's: volcompd's heartbeat, status and
+# offsets after its limiter (its optional outputs) and the test's phase marker.
 newsig volcomp-heartbeat s32
 newsig volcomp-status s32
+newsig volcomp-x-offset float
+newsig volcomp-y-offset float
+newsig volcomp-z-offset float
 newsig test-phase s32
 # This machine is shared and loaded: volcompd (not real-time here) can stall for more than the
 # snippet's 0.1 s, after which the watchdog would clear the offsets.

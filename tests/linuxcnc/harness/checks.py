@@ -96,11 +96,15 @@ def check_rates(rows, limits, failures, label=""):
     for i, (prev, row) in enumerate(zip(rows, rows[1:])):
         writes_between = (int(row[COL_HEARTBEAT]) - int(prev[COL_HEARTBEAT])) % 65536
         same_daemon = 0 <= writes_between < 1000 and int(row[COL_PHASE]) == int(prev[COL_PHASE])
+        # At machine-on LinuxCNC zeroes the external offsets and takes what was applied into the
+        # position (nothing moves; the joints' record shows it): not a move of the offset.
+        machine_on = prev[COL_MACHINE_ON] == 0 and row[COL_MACHINE_ON] != 0
         for k in range(3):
             eo = row[COL_EOFFSET + k]
             worst_offset = max(worst_offset, abs(eo))
-            rate = abs(eo - prev[COL_EOFFSET + k]) / limits.servo_s
-            worst_applied_rate = max(worst_applied_rate, rate)
+            if not machine_on:
+                rate = abs(eo - prev[COL_EOFFSET + k]) / limits.servo_s
+                worst_applied_rate = max(worst_applied_rate, rate)
             # The joints lag the planned positions by a couple of servo periods while they move:
             # compare where commanded position and offset have been still for a while.
             if i >= 8 and all(rows[i + 1 - j][COL_POS + k] == row[COL_POS + k] and

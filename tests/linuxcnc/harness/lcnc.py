@@ -238,26 +238,40 @@ KINEMATICS = trivkins coordinates=XYZ
             self._c.wait_complete()
             self.wait(lambda s: s.task_mode == m, "mode %d" % m)
 
+    def _state(self, state, predicate, what, timeout=30.0):
+        """Sends a task state command until `predicate(stat)` holds. Under load task has been seen
+        to drop a state command sent soon after start-up or after another one (no error message,
+        the state just stays): it is sent again every 2 s."""
+        deadline = time.monotonic() + timeout
+        while True:
+            self._c.state(state)
+            self._c.wait_complete()
+            try:
+                return self.wait(predicate, what, min(2.0, max(0.0, deadline - time.monotonic())))
+            except TimeoutError as e:
+                if time.monotonic() >= deadline:
+                    st = self.stat
+                    raise TimeoutError("%s (task_state %d, enabled %d, task_mode %d, exec_state %d,"
+                                       " interp_state %d, errors %s)" % (
+                                           e, st.task_state, st.enabled, st.task_mode,
+                                           st.exec_state, st.interp_state, self.errors())) from None
+
     def on(self):
         import linuxcnc
-        if self.stat.task_state != linuxcnc.STATE_ON:
-            self._c.state(linuxcnc.STATE_ESTOP_RESET)
-            self._c.wait_complete()
-            self._c.state(linuxcnc.STATE_ON)
-            self._c.wait_complete()
-            self.wait(lambda s: s.task_state == linuxcnc.STATE_ON, "machine on")
+        if self.stat.task_state == linuxcnc.STATE_ESTOP:
+            self._state(linuxcnc.STATE_ESTOP_RESET, lambda s: s.task_state != linuxcnc.STATE_ESTOP,
+                        "E-stop reset")
+        self._state(linuxcnc.STATE_ON, lambda s: s.task_state == linuxcnc.STATE_ON, "machine on")
 
     def off(self):
         import linuxcnc
-        self._c.state(linuxcnc.STATE_OFF)
-        self._c.wait_complete()
-        self.wait(lambda s: s.task_state == linuxcnc.STATE_OFF, "machine off")
+        # Task reports a machine switched off as STATE_ESTOP_RESET (2.9).
+        self._state(linuxcnc.STATE_OFF,
+                    lambda s: s.task_state != linuxcnc.STATE_ON and not s.enabled, "machine off")
 
     def estop(self):
         import linuxcnc
-        self._c.state(linuxcnc.STATE_ESTOP)
-        self._c.wait_complete()
-        self.wait(lambda s: s.task_state == linuxcnc.STATE_ESTOP, "E-stop")
+        self._state(linuxcnc.STATE_ESTOP, lambda s: s.task_state == linuxcnc.STATE_ESTOP, "E-stop")
 
     def home(self):
         import linuxcnc
@@ -288,8 +302,18 @@ KINEMATICS = trivkins coordinates=XYZ
         self.mode(linuxcnc.MODE_MDI)
         self._c.mdi(command)
         self._c.wait_complete()
-        self.wait(lambda s: s.interp_state == linuxcnc.INTERP_IDLE and s.queue == 0 and s.inpos
-                  and s.current_vel == 0, "MDI " + command, timeout)
+
+        def done(s):
+            return (s.interp_state == linuxcnc.INTERP_IDLE and s.queue == 0 and s.inpos and
+                    s.current_vel == 0)
+        try:
+            self.wait(done, "MDI " + command, timeout)
+        except TimeoutError as e:
+            s = self.stat
+            raise TimeoutError("%s (task_state %d, task_mode %d, interp_state %d, queue %d, inpos "
+                               "%d, current_vel %g, position %s, errors %s)" % (
+                                   e, s.task_state, s.task_mode, s.interp_state, s.queue, s.inpos,
+                                   s.current_vel, s.position[:3], self.errors())) from None
 
     def run_program(self, path):
         """Starts a program (absolute path) in AUTO mode; does not wait for its end."""

@@ -45,9 +45,8 @@ MAX_OFFSET = 0.1
 MAX_RATE = 0.5
 COUNTS_PER_MM = 10000
 # The far corner, where the example machine's offsets are largest. The joints home where they
-# stand (immediate homing) and take this position, so that unhoming and homing again there does
-# not move the coordinates.
-HOME = (780.0, 440.0, -420.0)
+# stand (immediate homing) and take position 0 there: after homing again the test goes back to
+# the corner (phase "return", the only commanded motion after the start).
 WHERE = "G0 X780 Y440 Z-420"
 
 
@@ -61,9 +60,7 @@ def main():
     failures = checks.Failures()
     machine = lcnc.Machine(work, TRAVEL, max_velocity=MAX_VELOCITY,
                            max_acceleration=MAX_ACCELERATION, offset_av_ratio=OFFSET_AV_RATIO,
-                           hal_files=["volcomp.hal", "test.hal"],
-                           joint_extra={j: "HOME_OFFSET = %g\nHOME = %g\n" % (v, v)
-                                        for j, v in enumerate(HOME)})
+                           hal_files=["volcomp.hal", "test.hal"])
     machine.prepare()
     shutil.copy(os.path.join(hal_dir, "volcomp.hal"), work)
     checks.write_test_hal(os.path.join(work, "test.hal"))
@@ -132,7 +129,11 @@ def main():
                        "unhomed: LinuxCNC holds the applied offsets (%s mm)" % fmt(applied()))
         phase("home")
         machine.home()
-        wait_settled("compensating again after homing")
+        lcnc.wait_for(lambda: status() & vd.STATUS_ACTIVE, "compensating again after homing", 30)
+        phase("return")
+        machine.mdi(WHERE)
+        phase("at the corner")
+        wait_settled("compensating at the corner again")
 
         phase("E-stop")
         machine.estop()
@@ -181,7 +182,7 @@ def main():
     limits = checks.Limits(max_offset=MAX_OFFSET, max_rate=MAX_RATE, cycle_ms=CYCLE_MS,
                            counts_per_mm=COUNTS_PER_MM, lcnc_rate=OFFSET_AV_RATIO * MAX_VELOCITY)
     checks.check_rates(rows, limits, failures)
-    check_no_jump(rows, failures)
+    check_no_jump(rows, phases, failures)
     check_frozen_while_not_accepting(rows, failures)
     failures.finish()
 
@@ -205,14 +206,17 @@ def counts_unchanged_since(machine, seconds):
             for a, b in zip("xyz", before)]
 
 
-def check_no_jump(rows, failures):
-    """The machine stands still throughout: each joint moves by at most what the offsets may do
-    in one servo period (OFFSET_AV_RATIO * MAX_VELOCITY), never a jump."""
+def check_no_jump(rows, phases, failures):
+    """Nothing is commanded to move (but the G0 back to the corner after homing): each joint moves
+    by at most what the offsets may do in one servo period (OFFSET_AV_RATIO * MAX_VELOCITY), never
+    a jump."""
     limit = OFFSET_AV_RATIO * MAX_VELOCITY * 0.001 * 1.001 + 1e-9
     worst = 0.0
     for prev, row in zip(rows, rows[1:]):
-        if row[checks.COL_HOMED] != prev[checks.COL_HOMED]:
-            continue  # homing sets the coordinates (by the applied offset here), nothing moves
+        if not (row[checks.COL_HOMED] and prev[checks.COL_HOMED]):
+            continue  # homing sets the coordinates where the joints stand: nothing moves
+        if phases["return"] in (int(prev[checks.COL_PHASE]), int(row[checks.COL_PHASE])):
+            continue  # the G0 back to the corner
         for k in range(3):
             worst = max(worst, abs(row[COL_FB + k] - prev[COL_FB + k]))
     failures.check(worst <= limit, "no joint jumps: largest move per servo period %.3g mm "

@@ -107,7 +107,8 @@ def check_rates(rows, limits, failures, label=""):
                 worst_applied_rate = max(worst_applied_rate, rate)
             # The joints lag the planned positions by a couple of servo periods while they move:
             # compare where commanded position and offset have been still for a while.
-            if i >= 8 and all(rows[i + 1 - j][COL_POS + k] == row[COL_POS + k] and
+            # (Not while homing: it sets the joints' coordinates before the commanded ones.)
+            if i >= 8 and row[COL_HOMED] and all(rows[i + 1 - j][COL_POS + k] == row[COL_POS + k] and
                               rows[i + 1 - j][COL_EOFFSET + k] == eo for j in range(1, 8)):
                 worst_joint = max(worst_joint, abs(row[COL_JOINT + k] - row[COL_POS + k] - eo))
             if not same_daemon:
@@ -115,7 +116,9 @@ def check_rates(rows, limits, failures, label=""):
             change = abs(int(row[COL_COUNTS + k]) - int(prev[COL_COUNTS + k]))
             if change == 0:
                 continue
-            allowed = writes_between * (limits.step_counts + 1.0)
+            # volcompd sets the counts before the heartbeat, and the servo thread may sample
+            # between the two: a sample can show a write's counts before its heartbeat.
+            allowed = max(writes_between, 1) * (limits.step_counts + 1.0)
             if writes_between > 0:
                 worst_step = max(worst_step, change / (writes_between * limits.step_counts))
             if change > allowed and bad_step is None:

@@ -23,43 +23,27 @@ Writes WORK/report.json (figures for the README). Exit status 0 when every check
 """
 import json
 import os
-import shutil
-import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "harness"))
 import daemon as vd  # noqa: E402
 import lcnc  # noqa: E402
+import vmc  # noqa: E402
+from vmc import CYCLE_MS, MAX_OFFSET, MAX_RATE, OFFSET_AV_RATIO  # noqa: E402
 import checks  # noqa: E402
 
-TRAVEL = {"X": (0.0, 850.0), "Y": (0.0, 500.0), "Z": (-500.0, 0.0)}
-MAX_VELOCITY = 200.0
-MAX_ACCELERATION = 2000.0
-OFFSET_AV_RATIO = 0.05  # offsets: 10 mm/s, 100 mm/s^2; programs: 190 mm/s
-CYCLE_MS = 5
-MAX_OFFSET = 0.1
-MAX_RATE = 0.5
-COUNTS_PER_MM = 10000
 
 
 def main():
     if len(sys.argv) != 7:
         sys.exit(__doc__)
     volcompd, tooltip, examples, hal_dir, program, work = (os.path.abspath(a) for a in sys.argv[1:])
-    if os.path.exists(work):
-        shutil.rmtree(work)
-    os.makedirs(work)
     failures = checks.Failures()
-    machine = lcnc.Machine(work, TRAVEL, max_velocity=MAX_VELOCITY,
-                           max_acceleration=MAX_ACCELERATION, offset_av_ratio=OFFSET_AV_RATIO,
-                           hal_files=["volcomp.hal", "test.hal"])
-    machine.prepare()
-    shutil.copy(os.path.join(hal_dir, "volcomp.hal"), work)
-    checks.write_test_hal(os.path.join(work, "test.hal"))
+    machine = vmc.machine(work, hal_dir)
     report = {"cycle_period_ms": CYCLE_MS, "max_rate_mm_s": MAX_RATE, "max_offset_mm": MAX_OFFSET,
               "offset_av_ratio": OFFSET_AV_RATIO, "runs": {}}
-    transport = {"type": "linuxcnc", "component": "volcomp", "counts_per_mm": COUNTS_PER_MM}
+    transport = vmc.TRANSPORT
     with machine:
         print("LinuxCNC up in %.1f s" % machine.startup_s, flush=True)
         capture = machine.capture(checks.CAPTURE_PINS)
@@ -109,9 +93,7 @@ def main():
         rows = capture.stop()
     failures.check(lcnc.check_gapless(rows), "the capture has no gap (%d samples)" % len(rows))
 
-    limits = checks.Limits(max_offset=MAX_OFFSET, max_rate=MAX_RATE, cycle_ms=CYCLE_MS,
-                           counts_per_mm=COUNTS_PER_MM,
-                           lcnc_rate=OFFSET_AV_RATIO * MAX_VELOCITY)
+    limits = vmc.limits()
     report["rates"] = checks.check_rates(rows, limits, failures)
     for name, run in report["runs"].items():
         selected = [r for r in rows if int(r[checks.COL_PHASE]) == run["program_phase"]]

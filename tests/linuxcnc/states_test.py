@@ -27,7 +27,6 @@ offsets while it is off or not homed.
 usage: states_test.py VOLCOMPD EXAMPLES_DIR HAL_DIR WORK
 """
 import os
-import shutil
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -35,15 +34,9 @@ sys.path.insert(0, os.path.join(HERE, "harness"))
 import checks  # noqa: E402
 import daemon as vd  # noqa: E402
 import lcnc  # noqa: E402
+import vmc  # noqa: E402
+from vmc import CYCLE_MS, MAX_OFFSET, MAX_RATE, MAX_VELOCITY, OFFSET_AV_RATIO  # noqa: E402
 
-TRAVEL = {"X": (0.0, 850.0), "Y": (0.0, 500.0), "Z": (-500.0, 0.0)}
-MAX_VELOCITY = 200.0
-MAX_ACCELERATION = 2000.0
-OFFSET_AV_RATIO = 0.05
-CYCLE_MS = 5
-MAX_OFFSET = 0.1
-MAX_RATE = 0.5
-COUNTS_PER_MM = 10000
 # The far corner, where the example machine's offsets are largest. The joints home where they
 # stand (immediate homing) and take position 0 there: after homing again the test goes back to
 # the corner (phase "return", the only commanded motion after the start).
@@ -54,17 +47,9 @@ def main():
     if len(sys.argv) != 5:
         sys.exit(__doc__)
     volcompd, examples, hal_dir, work = (os.path.abspath(a) for a in sys.argv[1:])
-    if os.path.exists(work):
-        shutil.rmtree(work)
-    os.makedirs(work)
     failures = checks.Failures()
-    machine = lcnc.Machine(work, TRAVEL, max_velocity=MAX_VELOCITY,
-                           max_acceleration=MAX_ACCELERATION, offset_av_ratio=OFFSET_AV_RATIO,
-                           hal_files=["volcomp.hal", "test.hal"])
-    machine.prepare()
-    shutil.copy(os.path.join(hal_dir, "volcomp.hal"), work)
-    checks.write_test_hal(os.path.join(work, "test.hal"))
-    transport = {"type": "linuxcnc", "component": "volcomp", "counts_per_mm": COUNTS_PER_MM}
+    machine = vmc.machine(work, hal_dir)
+    transport = vmc.TRANSPORT
     config = os.path.join(work, "volcompd.json")
     vd.write_config(config, os.path.join(examples, "vmc-xyfz-21-true.json"), transport,
                     cycle_ms=CYCLE_MS, max_offset=MAX_OFFSET, max_rate=MAX_RATE)
@@ -179,8 +164,7 @@ def main():
     # to the corner). (The capture starts before machine-on: loading the sampler later has been
     # seen to leave task ignoring state commands in this LinuxCNC.)
     rows = [r for r in rows if int(r[checks.COL_PHASE]) >= 1]
-    limits = checks.Limits(max_offset=MAX_OFFSET, max_rate=MAX_RATE, cycle_ms=CYCLE_MS,
-                           counts_per_mm=COUNTS_PER_MM, lcnc_rate=OFFSET_AV_RATIO * MAX_VELOCITY)
+    limits = vmc.limits()
     checks.check_rates(rows, limits, failures)
     check_no_jump(rows, phases, failures)
     check_frozen_while_not_accepting(rows, failures)

@@ -23,6 +23,8 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LOCK_FILE = "/tmp/volcomp-linuxcnc.lock"
+# The headless "display" the metrology tests' LinuxCNC uses too.
+HEADLESS = os.path.join(HERE, "..", "..", "metrology", "linuxcnc", "headless.py")
 
 
 def environment():
@@ -150,7 +152,7 @@ KINEMATICS = trivkins coordinates=XYZ
         """Writes the configuration into `work` (created, or emptied of a previous run's files)."""
         os.makedirs(self.work, exist_ok=True)
         os.chmod(self.work, 0o755)  # readable for the fallback uid rtapi_app runs as
-        shutil.copy(os.path.join(HERE, "headless.py"), self.work)
+        shutil.copy(HEADLESS, self.work)
         os.chmod(os.path.join(self.work, "headless.py"), 0o755)
         with open(os.path.join(self.work, "sim.hal"), "w") as f:
             f.write(SIM_HAL)

@@ -137,6 +137,14 @@ def main():
             print(lcnc.halcmd("show", "pin", "axis."), lcnc.halcmd("show", "pin", "motion.eoffset"),
                   flush=True)
             raise
+        def off_nominal():
+            return max(abs(machine.get("joint.%d.pos-fb" % k) -
+                           machine.get("axis.%s.pos-cmd" % a)) for k, a in enumerate("xyz"))
+        # The joints follow the offset's last servo periods a little later.
+        try:
+            lcnc.wait_for(lambda: off_nominal() < 1e-6, "the joints on the nominal position", 2)
+        except TimeoutError:
+            pass  # the check below says by how much
         for k, axis in enumerate("xyz"):
             joint = machine.get("joint.%d.pos-fb" % k)
             cmd = machine.get("axis.%s.pos-cmd" % axis)

@@ -25,6 +25,8 @@ packages=(
   # robustness pass (scripts/robustness.sh): clang's libFuzzer and sanitizer runtimes; llvm for
   # the fuzz coverage report (scripts/fuzz-coverage.sh)
   libclang-rt-14-dev llvm
+  # the LinuxCNC adapter: hal.h and liblinuxcnchal for volcompd's HAL userspace component
+  linuxcnc-uspace-dev
 )
 
 SUDO=""

@@ -132,6 +132,43 @@ TEST_F(LoopTest, DisabledRampsToZeroAtMaxRateThenWritesZero) {
   EXPECT_EQ(port.last.offsetMm[1], 0.0);
 }
 
+// A controller that ignores offset changes while disabled (LinuxCNC with the machine off or not
+// homed) still applies the old offsets when enable comes back, although this loop ramped them to
+// zero meanwhile: compensation resumes from the read-back, one step from what is applied.
+TEST_F(LoopTest, ResumingAfterDisabledContinuesFromTheReadBack) {
+  make();
+  runUntilSettled();
+  ASSERT_DOUBLE_EQ(port.last.offsetMm[2], 0.03);
+  port.holdApplied = true;  // the ramp below is written but never applied
+  port.sample.homed = false;
+  for (int i = 0; i < 6; ++i) cycle();
+  ASSERT_EQ(port.last.offsetMm[2], 0.0);
+  ASSERT_DOUBLE_EQ(port.applied[2], 0.03);
+  port.holdApplied = false;
+  port.sample.homed = true;
+  model->setOffset({0.01, -0.02, 0.0});
+  const CycleReport r = cycle();
+  EXPECT_EQ(r.state, LoopState::Active);
+  // From the applied (0.01, -0.02, 0.03) towards (0.01, -0.02, 0): one step, not a jump from 0.
+  EXPECT_NEAR(port.last.offsetMm[0], 0.01, kEps);
+  EXPECT_NEAR(port.last.offsetMm[1], -0.02, kEps);
+  EXPECT_NEAR(port.last.offsetMm[2], 0.03 - kStep, kEps);
+  EXPECT_EQ(loop->counters().resynchronisations, 1u);
+}
+
+// A controller that applies the ramp while disabled agrees with the loop when enable returns:
+// nothing re-seeds.
+TEST_F(LoopTest, ResumingWithAnAgreeingReadBackKeepsTheLimiterState) {
+  make();
+  runUntilSettled();
+  port.sample.enable = false;
+  for (int i = 0; i < 6; ++i) cycle();
+  port.sample.enable = true;
+  cycle();
+  EXPECT_NEAR(port.last.offsetMm[2], kStep, kEps);
+  EXPECT_EQ(loop->counters().resynchronisations, 0u);
+}
+
 TEST_F(LoopTest, NotHomedWritesOnlyZero) {
   port.sample.homed = false;
   port.sample.positionMm = {9999.0, -9999.0, 12345.0};  // unhomed: meaningless positions

@@ -132,14 +132,17 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
 // The controller may change the applied offsets behind this loop's back while the loop is silent:
 // its heartbeat watchdog ramps them out when the daemon was stopped or blocked (SIGSTOP, a stuck
 // transaction, a starved CPU). After such a silence the limiter must continue from what is
-// applied, as after a reconnect, or the next write would jump. Only after a silence: while the
-// loop writes every cycle a read-back that disagrees is more likely frozen registers than a PLC
-// acting on its own, and following it would make the written offsets jump. A departure within
-// one limiter step is rounding or lag and keeps the limiter's state (its velocity matters for the
-// acceleration limit).
-void CompensationLoop::followController(time_point now) noexcept {
+// applied, as after a reconnect, or the next write would jump. The same holds when enable and
+// homed come back: a controller may ignore offset changes while disabled (LinuxCNC drops them
+// while the machine is off or not homed, and zeroes its offsets at machine-on), so the ramp this
+// loop wrote meanwhile may never have been applied. Only then: while the loop writes every cycle
+// a read-back that disagrees is more likely frozen registers than a PLC acting on its own, and
+// following it would make the written offsets jump. A departure within one limiter step is
+// rounding or lag and keeps the limiter's state (its velocity matters for the acceleration
+// limit).
+void CompensationLoop::followController(time_point now, bool resumed) noexcept {
   const auto silence = now - lastWriteTime_;
-  if (silence <= 2 * settings_.period) return;
+  if (silence <= 2 * settings_.period && !(resumed && settings_.offsetReadback)) return;
   std::array<double, 3> applied{};
   if (settings_.offsetReadback) {
     if (!sample_.hasAppliedOffsets || !allFinite(sample_.appliedOffsetMm)) return;
@@ -271,7 +274,10 @@ CycleReport CompensationLoop::step() noexcept {
     }
   }
 
-  if (wasSynced && !readError) followController(now);
+  if (wasSynced && !readError) {
+    const bool resumed = state_ == LoopState::Disabled && sample_.enable && sample_.homed;
+    followController(now, resumed);
+  }
 
   std::array<double, 3> target{};
   FaultCode fault = FaultCode::None;

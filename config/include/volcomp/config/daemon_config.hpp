@@ -19,7 +19,7 @@
 ///   * "model": "model.json",                 relative to this file's directory
 ///     "reconnect": {"initial_ms": 100, "max_ms": 2000},
 ///     "log_level": "info",                   trace|debug|info|warn|error|critical|off
-///   * "transport": {"type": "modbus-tcp" | "modbus-rtu" | "can", ...driver keys...}
+///   * "transport": {"type": "modbus-tcp" | "modbus-rtu" | "can" | "linuxcnc", ...driver keys...}
 ///   }
 /// `plc_zero_after_ms`: without a read-back the daemon only knows the applied offsets are zero
 /// once its heartbeat has been silent for this long (the PLC's heartbeat timeout plus the time

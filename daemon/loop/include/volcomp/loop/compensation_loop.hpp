@@ -7,7 +7,9 @@
 ///   Starting  nothing, until the applied offsets are read back (offsetReadback) or known zero
 ///             (nothing written for plcZeroAfter); the limiter then starts from them.
 ///   Active    enable on, homed, fresh and valid data: model offsets through the limiter.
-///   Disabled  enable off or not homed: ramp to zero at max rate, then zero.
+///   Disabled  enable off or not homed: ramp to zero at max rate, then zero. When enable and
+///             homed return, the limiter continues from the read-back if it departs by more
+///             than one step (the controller may have ignored the ramp).
 ///   Fault     stale/invalid input, beyond travel + margin, model error, failed transaction:
 ///             ramp to zero; FAULT bit and code. Clears when the cause is gone (the offsets then
 ///             slew back in through the limiter).
@@ -121,7 +123,7 @@ class CompensationLoop {
   void enterLinkLost(time_point now, CycleReport& report) noexcept;
   bool tryConnect(time_point now, CycleReport& report) noexcept;
   bool synchronise(time_point now) noexcept;
-  void followController(time_point now) noexcept;
+  void followController(time_point now, bool resumed) noexcept;
   FaultCode checkInputs(time_point now, std::array<double, 3>& qMm, bool& outOfTravel) noexcept;
   void writeCommand(time_point now, std::uint16_t status, CycleReport& report) noexcept;
 

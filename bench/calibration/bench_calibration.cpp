@@ -11,7 +11,7 @@
 #include <numbers>
 #include <random>
 
-#include "synthetic.hpp"
+#include "vmc_case.hpp"
 #include "volcomp/calibration/identification.hpp"
 #include "volcomp/calibration/planar2dof.hpp"
 
@@ -60,76 +60,8 @@ void BM_Seed003PlanarFit(benchmark::State& state) {
 }
 BENCHMARK(BM_Seed003PlanarFit)->Unit(benchmark::kMicrosecond);
 
-json vmcTruth() {
-  json components = json::object();
-  const std::vector<double> positions{0, 100, 200, 300, 400, 500, 600, 700};
-  std::mt19937 generator(21);
-  std::normal_distribution<double> value(0.0, 5.0);
-  for (int i = 0; i < 18; ++i) {
-    std::vector<double> values;
-    for (std::size_t j = 0; j < positions.size(); ++j) values.push_back(value(generator));
-    const int axis = i / 6;
-    std::vector<double> scaled = positions;
-    for (double& p : scaled)
-      p = axis == 2 ? -p * 4.0 / 7.0 : p * (axis == 1 ? 5.0 / 7.0 : 8.0 / 7.0);
-    if (axis == 2) std::reverse(scaled.begin(), scaled.end());
-    components[model::motionName(i)] = {
-        {"positions", scaled}, {"values", values}, {"interpolation", "linear"}};
-  }
-  components["EC0Y"] = 12.0;
-  components["EB0Z"] = -8.0;
-  components["EA0Z"] = 5.0;
-  return json{{"format", "volcomp-model/1"},
-              {"topology", "XYFZ"},
-              {"tool", {0, 0, 100}},
-              {"error_units", {{"length", "um"}, {"angle", "urad"}}},
-              {"components", components}};
-}
-
-json vmcTemplate(const json& truth) {
-  json t = truth;
-  for (auto& [name, component] : t["components"].items()) {
-    if (name.size() == 4) {
-      component = {{"identify", "constant"}};
-    } else {
-      component = {{"identify",
-                    {{"basis", "table"},
-                     {"positions", component["positions"]},
-                     {"interpolation", "linear"}}}};
-    }
-  }
-  return t;
-}
-
-struct VmcCase {
-  config::ModelDocument document;
-  MeasurementSet data;
-};
-
-const VmcCase& vmcCase() {
-  static const VmcCase instance = [] {
-    const json truth = vmcTruth();
-    testing::SyntheticOptions options;
-    options.x.clear();
-    options.y.clear();
-    options.z.clear();
-    for (int i = 0; i < 10; ++i) {
-      options.x.push_back(800.0 * i / 9.0);
-      options.y.push_back(500.0 * i / 9.0);
-      options.z.push_back(-400.0 * i / 9.0);
-    }
-    options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250),
-                     Eigen::Vector3d(150, 0, 150), Eigen::Vector3d(0, 150, 150),
-                     Eigen::Vector3d(-100, -100, 200)};
-    options.noiseMm = 1e-3;
-    return VmcCase{testing::templateDocument(vmcTemplate(truth)),
-                   testing::simulate(testing::machineSpec(truth), options)};
-  }();
-  return instance;
-}
-
 void BM_TwentyOneComponentIdentification(benchmark::State& state) {
-  const VmcCase& c = vmcCase();
+  const bench::VmcCase& c = bench::vmcCase();
   const auto problem = makeIdentificationProblem(c.document, c.data);
   int rank = 0;
   for (auto _ : state) {
@@ -144,7 +76,7 @@ void BM_TwentyOneComponentIdentification(benchmark::State& state) {
 BENCHMARK(BM_TwentyOneComponentIdentification)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 void BM_TwentyOneComponentProblemSetUp(benchmark::State& state) {
-  const VmcCase& c = vmcCase();
+  const bench::VmcCase& c = bench::vmcCase();
   for (auto _ : state) {
     const auto problem = makeIdentificationProblem(c.document, c.data);
     benchmark::DoNotOptimize(problem.get());

@@ -1,5 +1,5 @@
 // volcomp: command-line access to volumetric error models (verbs `eval`, `check`, `calibrate`,
-// `iso230-2`, `export`).
+// `iso230-2`, `export`, `plan`).
 // Errors are caught here only: one line on stderr, exit status 2 for bad arguments or files.
 
 #include <exception>
@@ -14,6 +14,7 @@
 #include "eval_verb.hpp"
 #include "export_verb.hpp"
 #include "iso230_2_verb.hpp"
+#include "plan_verb.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/printable.hpp"
 #include "volcomp/model/types.hpp"
@@ -50,11 +51,14 @@ int main(int argc, char** argv) {
   CLI::App* eval = addEvalVerb(app, evalOptions);
   CLI::App* check = addCheckVerb(app, checkOptions);
   volcomp::calibration::CalibrateOptions calibrateOptions;
+  calibrateOptions.volcompVersion = VOLCOMP_VERSION;
   CLI::App* calibrate = addCalibrateVerb(app, calibrateOptions);
   Iso230Options iso230Options;
   CLI::App* iso230 = addIso230Verb(app, iso230Options);
   ExportOptions exportOptions;
   CLI::App* exportVerb = addExportVerb(app, exportOptions);
+  PlanArguments planArguments;
+  CLI::App* plan = addPlanVerb(app, planArguments);
 
   try {
     app.parse(argc, argv);
@@ -70,6 +74,10 @@ int main(int argc, char** argv) {
     if (calibrate->parsed()) return volcomp::calibration::runCalibrate(calibrateOptions, std::cout);
     if (iso230->parsed()) return runIso230(iso230Options, std::cout, std::cerr);
     if (exportVerb->parsed()) return runExport(exportOptions, std::cout);
+    if (plan->parsed()) {
+      resolvePlanArguments(planArguments);
+      return volcomp::calibration::runPlan(planArguments.options, std::cout);
+    }
   } catch (const volcomp::config::ConfigError& e) {
     std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
     return kExitBadInput;

@@ -16,20 +16,20 @@ namespace volcomp::calibration::detail {
 void householderQr(double* a, Eigen::Index m, Eigen::Index n, double* tau);
 
 /// x <- Q^T x (x has m entries) for a factorisation made by householderQr.
-void applyQTranspose(const double* a, Eigen::Index m, Eigen::Index n, const double* tau,
-                     double* x);
+void applyQTranspose(const double* a, Eigen::Index m, Eigen::Index n, const double* tau, double* x);
 
 /// The two builds, for tests that compare them (the functions above pick one).
 bool denseKernelsUseAvx2();
+/// For benchmarks and tests: with false, the functions above run the baseline build even on a CPU
+/// with AVX2 and FMA (default true: the CPU decides).
+void allowAvx2DenseKernels(bool allowed);
 namespace baseline {
 void householderQr(double* a, Eigen::Index m, Eigen::Index n, double* tau);
-void applyQTranspose(const double* a, Eigen::Index m, Eigen::Index n, const double* tau,
-                     double* x);
+void applyQTranspose(const double* a, Eigen::Index m, Eigen::Index n, const double* tau, double* x);
 }  // namespace baseline
 namespace avx2 {
 void householderQr(double* a, Eigen::Index m, Eigen::Index n, double* tau);
-void applyQTranspose(const double* a, Eigen::Index m, Eigen::Index n, const double* tau,
-                     double* x);
+void applyQTranspose(const double* a, Eigen::Index m, Eigen::Index n, const double* tau, double* x);
 }  // namespace avx2
 
 }  // namespace volcomp::calibration::detail

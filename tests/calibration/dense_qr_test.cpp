@@ -8,7 +8,8 @@
 #include <cmath>
 #include <random>
 
-#include "dense_qr.hpp"
+// An internal header of the library (not installed), included by its path in the source tree.
+#include "../../calibration/src/dense_qr.hpp"
 #include "synthetic.hpp"
 #include "volcomp/calibration/identification.hpp"
 #include "volcomp/calibration/least_squares.hpp"

@@ -30,9 +30,11 @@ model::MachineModelSpec trueMachine() {
       config::loadModelFile(kExamples + "/vmc-xyfz-21-true.json").spec);
 }
 
-// Candidates: 9 x 6 x 5 positions over the travel with the four tools of the end-to-end test.
+// Candidates: 11 x 6 x 6 positions over the travel (every table node of the template: fewer
+// positions than nodes along an axis would leave nodes no design can identify) with the four
+// tools of the end-to-end test.
 std::vector<PlanCandidate> candidates(const config::ModelDocument& document) {
-  return gridCandidates(std::get<model::MachineModelSpec>(document.spec), {9, 6, 5},
+  return gridCandidates(std::get<model::MachineModelSpec>(document.spec), {11, 6, 6},
                         {Eigen::Vector3d(0, 0, 120), Eigen::Vector3d(0, 0, 220),
                          Eigen::Vector3d(100, 0, 120), Eigen::Vector3d(0, 100, 120)});
 }

@@ -191,10 +191,10 @@ void CsvReader::readHeader() {
         std::find(schema_.ignored.begin(), schema_.ignored.end(), base) != schema_.ignored.end();
     if (index < 0 && !ignored && !ignoredBase) {
       throw ConfigError(file_, lineKey(line_),
-                        "unknown column " + quoted(written) + " (" + expected + ")");
+                        "unknown column " + config::quoted(written) + " (" + expected + ")");
     }
     if (std::find(seen.begin(), seen.end(), base) != seen.end()) {
-      throw ConfigError(file_, lineKey(line_), "column " + quoted(base) + " appears twice");
+      throw ConfigError(file_, lineKey(line_), "column " + config::quoted(base) + " appears twice");
     }
     seen.push_back(base);
     if (index >= 0) {
@@ -282,7 +282,7 @@ double CsvReader::number(int column) const {
   double value = 0.0;
   const auto [pointer, error] = std::from_chars(begin, end, value);
   if (text.empty() || error != std::errc() || pointer != end || !std::isfinite(value)) {
-    fail(column, "expected a finite number, got " + quoted(text));
+    fail(column, "expected a finite number, got " + config::quoted(text));
   }
   return value * header_[static_cast<std::size_t>(column)].factor;
 }
@@ -291,7 +291,7 @@ model::Directions CsvReader::directions(int column) const {
   model::Directions directions{};
   if (!parseDirectionsText(field(column), directions)) {
     fail(column, "expected one direction per axis X, Y, Z (+, - or 0), such as +-+, got " +
-                     quoted(field(column)));
+                     config::quoted(field(column)));
   }
   return directions;
 }

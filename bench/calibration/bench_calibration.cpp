@@ -4,13 +4,10 @@
 // - 21 components of an XYFZ machine as 8-node tables (18 x 8 + 3 = 147 parameters), 5000
 //   points (1000 positions x 5 tools), linear identification including covariance, correlation
 //   and the naming of unidentifiable combinations. Target <= 0.1 s on one core (issue 15).
-//   Argument 1: the dense QR kernels as the CPU allows (AVX2 + FMA build of Eigen's
-//   HouseholderQR here); 0: Eigen's HouseholderQR as the rest of the project is compiled
-//   (baseline x86-64, SSE2).
-// - The factorisation alone on that case's column-scaled 15000 x 147 sensitivity matrix, four
-//   ways: Eigen's HouseholderQR (baseline build), the same compiled for AVX2 + FMA, Eigen's
-//   ColPivHouseholderQR, and the normal equations (J^T J by a rank update, then
-//   SelfAdjointEigenSolver), to choose between them (docs/calibration.md).
+// - The factorisation alone on that case's column-scaled 15000 x 147 sensitivity matrix, three
+//   ways: Eigen's HouseholderQR (what the identification uses), ColPivHouseholderQR, and the
+//   normal equations (J^T J by a rank update, then SelfAdjointEigenSolver), to choose between
+//   them (docs/calibration.md).
 
 #include <benchmark/benchmark.h>
 
@@ -21,7 +18,6 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
-#include "dense_qr.hpp"
 #include "vmc_case.hpp"
 #include "volcomp/calibration/identification.hpp"
 #include "volcomp/calibration/planar2dof.hpp"
@@ -74,24 +70,17 @@ BENCHMARK(BM_Seed003PlanarFit)->Unit(benchmark::kMicrosecond);
 void BM_TwentyOneComponentIdentification(benchmark::State& state) {
   const bench::VmcCase& c = bench::vmcCase();
   const auto problem = makeIdentificationProblem(c.document, c.data);
-  detail::allowAvx2DenseKernels(state.range(0) != 0);
   int rank = 0;
   for (auto _ : state) {
     const FitResult fit = solve(*problem, problem->startVector());
     rank = fit.statistics.rank;
     benchmark::DoNotOptimize(fit.statistics.covariance.data());
   }
-  detail::allowAvx2DenseKernels(true);
   state.counters["parameters"] = problem->parameterCount();
   state.counters["points"] = problem->observationCount();
   state.counters["rank"] = rank;
-  state.counters["avx2"] = detail::denseKernelsUseAvx2() && state.range(0) != 0;
 }
-BENCHMARK(BM_TwentyOneComponentIdentification)
-    ->Arg(1)
-    ->Arg(0)
-    ->Unit(benchmark::kMillisecond)
-    ->MinTime(2.0);
+BENCHMARK(BM_TwentyOneComponentIdentification)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 const Eigen::MatrixXd& scaledJacobian() {
   static const Eigen::MatrixXd jacobian = [] {
@@ -123,25 +112,13 @@ void timeFactorisation(benchmark::State& state, Factorise factorise) {
   state.counters["cols"] = static_cast<double>(j.cols());
 }
 
-void BM_QrEigenBaseline(benchmark::State& state) {
-  Eigen::VectorXd tau(scaledJacobian().cols());
+void BM_QrEigenHouseholder(benchmark::State& state) {
   timeFactorisation(state, [&](Eigen::MatrixXd& a) {
-    detail::baseline::householderQr(a.data(), a.rows(), a.cols(), tau.data());
+    Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(a);
+    benchmark::DoNotOptimize(qr.hCoeffs().data());
   });
 }
-BENCHMARK(BM_QrEigenBaseline)->Unit(benchmark::kMillisecond);
-
-void BM_QrEigenAvx2(benchmark::State& state) {
-  if (!detail::denseKernelsUseAvx2()) {
-    state.SkipWithError("the CPU has no AVX2 + FMA");
-    return;
-  }
-  Eigen::VectorXd tau(scaledJacobian().cols());
-  timeFactorisation(state, [&](Eigen::MatrixXd& a) {
-    detail::avx2::householderQr(a.data(), a.rows(), a.cols(), tau.data());
-  });
-}
-BENCHMARK(BM_QrEigenAvx2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_QrEigenHouseholder)->Unit(benchmark::kMillisecond);
 
 void BM_QrEigenColPiv(benchmark::State& state) {
   timeFactorisation(state, [&](Eigen::MatrixXd& a) {

@@ -5,27 +5,22 @@
 //   valgrind --tool=callgrind ./calibration_instruction_count solve 2   (total I2)
 //   I2 - I1
 // Operations: solve (identification with covariance, correlation, null space: what
-// bench_calibration times), solve-baseline (the same with the dense QR's baseline build, as on a
-// CPU without AVX2), jacobian (the sensitivity matrix alone).
+// bench_calibration times), jacobian (the sensitivity matrix alone).
 
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
-#include "dense_qr.hpp"
 #include "vmc_case.hpp"
 
 int main(int argc, char** argv) {
   using namespace volcomp;
   const std::string operation = argc > 1 ? argv[1] : "";
   const int repeats = argc > 2 ? std::atoi(argv[2]) : 0;
-  if ((operation != "solve" && operation != "solve-baseline" && operation != "jacobian") ||
-      repeats < 1) {
-    std::fprintf(stderr,
-                 "usage: calibration_instruction_count solve|solve-baseline|jacobian REPEATS\n");
+  if ((operation != "solve" && operation != "jacobian") || repeats < 1) {
+    std::fprintf(stderr, "usage: calibration_instruction_count solve|jacobian REPEATS\n");
     return 2;
   }
-  calibration::detail::allowAvx2DenseKernels(operation != "solve-baseline");
   const bench::VmcCase& c = bench::vmcCase();
   const auto problem = calibration::makeIdentificationProblem(c.document, c.data);
   const Eigen::VectorXd start = problem->startVector();

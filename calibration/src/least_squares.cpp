@@ -10,7 +10,6 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
-#include "dense_qr.hpp"
 #include "scaled_svd.hpp"
 
 namespace volcomp::calibration {
@@ -156,8 +155,8 @@ ScaledSvd::ScaledSvd(Eigen::MatrixXd jacobian, double rankTolerance) {
   if (m >= n) {
     // QR first (in place: the matrix is large): the SVD then works on an n x n triangle.
     factors = std::move(jacobian);
-    householderCoefficients.resize(n);
-    detail::householderQr(factors.data(), m, n, householderCoefficients.data());
+    Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(factors);
+    householderCoefficients = qr.hCoeffs();
     const Eigen::MatrixXd r = factors.topRows(n).triangularView<Eigen::Upper>();
     Eigen::BDCSVD<Eigen::MatrixXd> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
     singularValues = svd.singularValues();
@@ -183,8 +182,7 @@ Eigen::VectorXd ScaledSvd::projectResiduals(const Eigen::VectorXd& residuals) co
   // U_k^T r, with U = Q [U_R; 0] for the tall case.
   if (tall) {
     Eigen::VectorXd qtr = residuals;
-    detail::applyQTranspose(factors.data(), factors.rows(), factors.cols(),
-                    householderCoefficients.data(), qtr.data());
+    qtr.applyOnTheLeft(Eigen::householderSequence(factors, householderCoefficients).adjoint());
     return uSmall.leftCols(rank).transpose() * qtr.head(uSmall.rows());
   }
   return uSmall.leftCols(rank).transpose() * residuals;

@@ -24,7 +24,8 @@ struct ScaledSvd {
   Eigen::VectorXd singularValues;
   Eigen::MatrixXd uSmall;
   Eigen::MatrixXd v;
-  /// Householder factors of the QR of Js (tall case, LAPACK layout) and their coefficients.
+  /// Householder factors of the QR of Js (tall case: Eigen's HouseholderQR in place, LAPACK
+  /// layout) and their coefficients.
   Eigen::MatrixXd factors;
   Eigen::VectorXd householderCoefficients;
   bool tall = true;

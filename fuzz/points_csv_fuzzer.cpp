@@ -10,8 +10,8 @@
 
 #include "fuzz_support.hpp"
 #include "points_csv.hpp"
-#include "volcomp/config/csv_table.hpp"
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/csv_table.hpp"
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/model/machine_model.hpp"
 
@@ -40,8 +40,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const Eigen::Vector3d tool(reader.number(tx), reader.number("ty"), reader.number("tz"));
         fuzz::require(tool.allFinite(), "a tool is not finite");
       }
-      const model::Directions d = direction >= 0 ? reader.directions(direction)
-                                                 : model::Directions{};
+      const model::Directions d =
+          direction >= 0 ? reader.directions(direction) : model::Directions{};
       model::evaluate(model, ws, q, d);
       model::solveOffset(model, ws, q, d);
     }

@@ -134,8 +134,8 @@ void accumulateResiduals(const ResidualProblem& problem, const Eigen::VectorXd& 
 }
 
 ResidualStats residualStats(const ResidualProblem& problem, const Eigen::VectorXd& p) {
-  ResidualAccumulator accumulator(std::min(problem.residualsPerObservation(),
-                                           problem.statisticsRows()));
+  ResidualAccumulator accumulator(
+      std::min(problem.residualsPerObservation(), problem.statisticsRows()));
   accumulateResiduals(problem, p, accumulator);
   return accumulator.finish();
 }
@@ -264,7 +264,8 @@ std::string describe(const std::vector<std::pair<int, double>>& terms,
 // Parameters whose share in every null direction is rounding noise (below the threshold) are
 // taken out of the basis before it is brought to echelon form, so that the listed combinations
 // hold exactly the parameters flagged as not identifiable.
-std::vector<Combination> namedCombinations(const ScaledSvd& svd, const std::vector<bool>& identifiable,
+std::vector<Combination> namedCombinations(const ScaledSvd& svd,
+                                           const std::vector<bool>& identifiable,
                                            const std::vector<std::string>& names,
                                            double threshold) {
   const Eigen::Index n = svd.v.rows();
@@ -312,10 +313,9 @@ std::vector<Combination> namedCombinations(const ScaledSvd& svd, const std::vect
     combination.residualChangePerPivotUnit =
         (svd.singularValues.asDiagonal() * (svd.v.transpose() * scaled)).norm();
     combination.relativeSingularValue =
-        largest > 0.0
-            ? (svd.singularValues.asDiagonal() * (svd.v.transpose() * direction)).norm() /
-                  direction.norm() / largest
-            : 0.0;
+        largest > 0.0 ? (svd.singularValues.asDiagonal() * (svd.v.transpose() * direction)).norm() /
+                            direction.norm() / largest
+                      : 0.0;
     combination.description = describe(combination.terms, names);
     combinations.push_back(std::move(combination));
   }
@@ -463,9 +463,8 @@ FitResult solveLinear(const ResidualProblem& problem, const Eigen::VectorXd& sta
     line << "iteration " << iteration << ": |r| = " << r.norm();
     report(options, line.str());
   }
-  result.statistics =
-      analyseFactorised(svd, r, parameterNames(problem), options.rankTolerance,
-                        options.identifiabilityThreshold);
+  result.statistics = analyseFactorised(svd, r, parameterNames(problem), options.rankTolerance,
+                                        options.identifiabilityThreshold);
   return result;
 }
 

@@ -83,8 +83,8 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
       lp.start = template_.locationRad[static_cast<std::size_t>(lp.index)];
       base.locationRad[static_cast<std::size_t>(lp.index)] = 0.0;
       locations_.push_back(lp);
-      info_.push_back({name, keyPath, units.angle, 1.0 / units.angleToRad, false,
-                       ParameterInfo::Kind::Angle});
+      info_.push_back(
+          {name, keyPath, units.angle, 1.0 / units.angleToRad, false, ParameterInfo::Kind::Angle});
       continue;
     }
     auto motion = motionByName.find(name);
@@ -194,8 +194,8 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
   basis_.resize(measurements.points.size() * static_cast<std::size_t>(basisWidth));
   for (std::size_t i = 0; i < measurements.points.size(); ++i) {
     const Measurement& m = measurements.points[i];
-    Point point = makePoint(m.qMm, measurements.hasTool ? m.toolMm : template_.toolMm,
-                            m.directions, basis_.data() + i * basisWidth_);
+    Point point = makePoint(m.qMm, measurements.hasTool ? m.toolMm : template_.toolMm, m.directions,
+                            basis_.data() + i * basisWidth_);
     point.measuredMm = m.errorMm;
     point.measuredAngleRad = m.angularErrorRad;
     point.sqrtWeight = std::sqrt(m.weight);
@@ -634,8 +634,8 @@ void MachineIdentification::prediction(const Eigen::VectorXd& p, const Predictio
                                        Eigen::Vector3d& errorMm,
                                        Eigen::Ref<Eigen::MatrixXd> jacobian) const {
   std::vector<double> basis(basisWidth_);
-  const Point point = makePoint(at.qMm, at.toolMm.value_or(template_.toolMm), at.directions,
-                                basis.data());
+  const Point point =
+      makePoint(at.qMm, at.toolMm.value_or(template_.toolMm), at.directions, basis.data());
   model::MotionValues values;
   motionValues(p.data(), point, basis.data(), values);
   predict(nullptr, point, values, 3, errorMm.data());
@@ -652,8 +652,7 @@ std::vector<Curve> MachineIdentification::curves() const {
     std::vector<double> positions;
     if (spec.basis == IdentifySpec::Basis::Table) {
       positions = spec.positions;
-    } else if (const auto& travel =
-                   template_.travelMm[static_cast<std::size_t>(component.axis)]) {
+    } else if (const auto& travel = template_.travelMm[static_cast<std::size_t>(component.axis)]) {
       for (int k = 0; k <= 4; ++k) {
         positions.push_back((*travel)[0] + ((*travel)[1] - (*travel)[0]) * k / 4.0);
       }

@@ -93,8 +93,8 @@ class MachineIdentification final : public IdentificationProblem {
                     model::MotionValues& values) const;
   /// Predicted rows (3 position rows, then 3 angle rows when `rows` is 6), seen through the
   /// instrument frame when `frame` is not null.
-  void predict(const double* frame, const Point& point, const model::MotionValues& values,
-               int rows, double* out) const;
+  void predict(const double* frame, const Point& point, const model::MotionValues& values, int rows,
+               double* out) const;
   /// Unweighted rows x n Jacobian of predict() at point; with `instrument` the frame parameters
   /// take part, otherwise their columns are zero (the machine's own error).
   void jacobianAt(const double* p, const Point& point, const double* basis, int rows,

@@ -76,7 +76,8 @@ void MachineIdentification::jacobian(const Eigen::VectorXd& p, Eigen::MatrixXd& 
     std::vector<model::PointError> centre(count), plus(count), minus(count);
     model::MachineModelSpec spec = identified;
     spec.toolMm = group.toolMm;
-    const auto evaluate = [&](const model::MachineModelSpec& s, std::vector<model::PointError>& out) {
+    const auto evaluate = [&](const model::MachineModelSpec& s,
+                              std::vector<model::PointError>& out) {
       const model::MachineModel m(s);
       model::evaluateBatch(m, ws, group.qMm, out, model::EvalMode::Exact, group.directions);
     };
@@ -127,7 +128,8 @@ void MachineIdentification::jacobian(const Eigen::VectorXd& p, Eigen::MatrixXd& 
         for (std::size_t l = 0; l < locations_.size(); ++l) {
           const int axis = locations_[l].index / 3;
           if (c / 6 != axis) continue;
-          const double lever = locationDerivative[l][c % 6] * points_[static_cast<std::size_t>(i)].qMm[axis];
+          const double lever =
+              locationDerivative[l][c % 6] * points_[static_cast<std::size_t>(i)].qMm[axis];
           for (int row = 0; row < rows; ++row) {
             jacobian(firstRow + row, locations_[l].parameter) +=
                 sensitivity[static_cast<std::size_t>(row)] * lever;

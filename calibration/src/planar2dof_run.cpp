@@ -82,7 +82,8 @@ Device readDevice(const Json& document, const std::string& file) {
           known = true;
         }
       }
-      if (!known) value.fail("unknown parameter; expected eLa, eLb, ea, eha, eb, ehb, phi, exK, eyK");
+      if (!known)
+        value.fail("unknown parameter; expected eLa, eLb, ea, eha, eb, ehb, phi, exK, eyK");
     }
   }
   return device;
@@ -131,10 +132,13 @@ double positionStd(const Planar2DofProblem& problem, const FitResult& fit) {
 void writeTable(std::ostream& out, const FitResult& fit, const std::vector<ParameterInfo>& info) {
   out << std::left << std::setw(12) << "Parameters" << std::right << std::setw(18)
       << "Starting values" << std::setw(18) << "Optimized values" << std::setw(24)
-      << "Standard deviation s_i" << "\n";
+      << "Standard deviation s_i"
+      << "\n";
   for (std::size_t j = 0; j < info.size(); ++j) {
     const auto index = static_cast<Eigen::Index>(j);
-    const std::string unit = info[j].unit == "deg" ? "°" : " " + (info[j].unit == "um" ? std::string("µm") : info[j].unit);
+    const std::string unit = info[j].unit == "deg"
+                                 ? "°"
+                                 : " " + (info[j].unit == "um" ? std::string("µm") : info[j].unit);
     const auto cell = [&](double value, int digits) {
       return std::isfinite(value) ? significant(value * info[j].toDisplay, digits) + unit
                                   : std::string("not identifiable");
@@ -153,8 +157,8 @@ void writeCorrelations(std::ostream& out, const FitResult& fit,
   for (std::size_t i = 0; i < info.size(); ++i) {
     out << std::left << std::setw(6) << info[i].name << std::right;
     for (std::size_t j = 0; j < info.size(); ++j) {
-      const double c = fit.statistics.correlation(static_cast<Eigen::Index>(i),
-                                                  static_cast<Eigen::Index>(j));
+      const double c =
+          fit.statistics.correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
       std::ostringstream cell;
       cell << std::fixed << std::setprecision(2) << c;
       out << std::setw(7) << (std::isfinite(c) ? cell.str() : std::string("-"));
@@ -166,8 +170,7 @@ void writeCorrelations(std::ostream& out, const FitResult& fit,
 }  // namespace
 
 bool isPlanar2DofDocument(const Json& document) {
-  return document.is_object() && document.contains("format") &&
-         document.at("format") == kFormat;
+  return document.is_object() && document.contains("format") && document.at("format") == kFormat;
 }
 
 int runPlanar2Dof(const Json& document, const CalibrateOptions& options, std::ostream& out) {
@@ -206,7 +209,8 @@ int runPlanar2Dof(const Json& document, const CalibrateOptions& options, std::os
   const double before = meanDeviation(problem, problem.freeVector(device.start));
   const double after = meanDeviation(problem, fit.parameters);
 
-  out << "\n" << (fit.converged ? "converged" : "NOT converged") << " after " << fit.iterations
+  out << "\n"
+      << (fit.converged ? "converged" : "NOT converged") << " after " << fit.iterations
       << " iterations (Levenberg-Marquardt): " << fit.termination << "\n\n";
   writeTable(out, fit, info);
   writeCorrelations(out, fit, info);
@@ -232,8 +236,9 @@ int runPlanar2Dof(const Json& document, const CalibrateOptions& options, std::os
   }
   for (std::size_t k = 0; k < info.size(); ++k) {
     const double s = fit.statistics.standardDeviation(static_cast<Eigen::Index>(k));
-    stds[info[k].name] = std::isfinite(s) ? Json(s / fileToInternal(problem.fullIndex(static_cast<int>(k))))
-                                          : Json(nullptr);
+    stds[info[k].name] = std::isfinite(s)
+                             ? Json(s / fileToInternal(problem.fullIndex(static_cast<int>(k))))
+                             : Json(nullptr);
   }
   deviceOut["values"] = values;
   deviceOut["std"] = stds;

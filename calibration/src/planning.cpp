@@ -35,7 +35,8 @@ class Design {
     const Eigen::Index count = f.rows() / 3;
     p_.resize(static_cast<std::size_t>(count));
     for (Eigen::Index i = 0; i < count; ++i) {
-      p_[static_cast<std::size_t>(i)] = f.middleRows(3 * i, 3) * f.middleRows(3 * i, 3).transpose() / kRidge;
+      p_[static_cast<std::size_t>(i)] =
+          f.middleRows(3 * i, 3) * f.middleRows(3 * i, 3).transpose() / kRidge;
     }
     logDet_ = static_cast<double>(r) * std::log(kRidge);
   }
@@ -186,7 +187,8 @@ PlanResult evaluateDesign(const config::ModelDocument& templateDocument,
   st.varianceFactor = options.noiseMm * options.noiseMm;
   st.covariance = st.varianceFactor * st.rangeFactor * st.rangeFactor.transpose();
   for (Eigen::Index j = 0; j < st.standardDeviation.size(); ++j) {
-    if (std::isfinite(st.standardDeviation(j))) st.standardDeviation(j) = std::sqrt(st.covariance(j, j));
+    if (std::isfinite(st.standardDeviation(j)))
+      st.standardDeviation(j) = std::sqrt(st.covariance(j, j));
   }
 
   Eigen::MatrixXd candidateRows;
@@ -224,8 +226,10 @@ PlanResult planMeasurements(const config::ModelDocument& templateDocument,
                             const PlanOptions& options) {
   const std::size_t count = candidates.size();
   if (options.points < 1 || static_cast<std::size_t>(options.points) > count) {
-    throw std::invalid_argument("the number of points must be between 1 and the number of "
-                                "candidates (" + std::to_string(count) + ")");
+    throw std::invalid_argument(
+        "the number of points must be between 1 and the number of "
+        "candidates (" +
+        std::to_string(count) + ")");
   }
   std::vector<std::size_t> all(count);
   for (std::size_t i = 0; i < count; ++i) all[i] = i;

@@ -33,11 +33,12 @@ std::string axisNames(int rows) {
 void residualRow(std::ostream& out, const std::string& label, const ResidualStats& s,
                  const std::vector<int>& lines) {
   out << "residual |e| " << std::left << std::setw(22) << label + ":" << std::right << "rms "
-      << um(s.rms)
-      << ", max " << um(s.max) << lineText(lines, s.maxIndex) << "; per axis rms";
-  for (Eigen::Index r = 0; r < s.rowRms.size(); ++r) out << " " << significant(s.rowRms(r) * 1e3, 4);
+      << um(s.rms) << ", max " << um(s.max) << lineText(lines, s.maxIndex) << "; per axis rms";
+  for (Eigen::Index r = 0; r < s.rowRms.size(); ++r)
+    out << " " << significant(s.rowRms(r) * 1e3, 4);
   out << " µm, max";
-  for (Eigen::Index r = 0; r < s.rowMax.size(); ++r) out << " " << significant(s.rowMax(r) * 1e3, 4);
+  for (Eigen::Index r = 0; r < s.rowMax.size(); ++r)
+    out << " " << significant(s.rowMax(r) * 1e3, 4);
   out << " µm\n";
 }
 
@@ -150,8 +151,7 @@ void writeMissingSummary(std::ostream& out, const FitResult& fit,
         out << " of " << significant((*travel)[0], 6) << ".." << significant((*travel)[1], 6);
       }
     }
-    out << "; " << c.toolsMm.size() << " tool offset" << (c.toolsMm.size() == 1 ? "" : "s")
-        << "\n";
+    out << "; " << c.toolsMm.size() << " tool offset" << (c.toolsMm.size() == 1 ? "" : "s") << "\n";
     out << "to identify more: measure over the whole travel of every axis with an identified "
            "component, with at least two tool lengths and a lateral tool offset (angular errors "
            "act through the tool's lever arms), and at least as many points as parameters / 3\n";
@@ -174,8 +174,8 @@ void writeSummary(std::ostream& out, const FitResult& fit, const std::vector<Par
   residualRow(out, "after", fit.after, context.lines);
   if (context.validation) {
     const ValidationResult& v = *context.validation;
-    const std::string label =
-        v.kind == "file" ? "held out (" + v.file + ")" : "held out (" + std::to_string(v.folds) + "-fold)";
+    const std::string label = v.kind == "file" ? "held out (" + v.file + ")"
+                                               : "held out (" + std::to_string(v.folds) + "-fold)";
     residualRow(out, label, v.stats, v.lines);
   }
   out << "s0 (scatter per weighted row) " << um(std::sqrt(st.varianceFactor)) << ", " << st.dof
@@ -194,7 +194,8 @@ void writeSummary(std::ostream& out, const FitResult& fit, const std::vector<Par
       << "; what the data cannot see keeps the start values (minimum-norm change)\n";
   if (context.prediction) {
     const PredictionSummary& p = *context.prediction;
-    out << "prediction uncertainty at the " << p.points << " measured points: U = k sigma of the "
+    out << "prediction uncertainty at the " << p.points
+        << " measured points: U = k sigma of the "
            "predicted error, k = "
         << significant(kCoverageFactor, 2) << " (the compensated position has the same): ";
     if (p.undetermined < p.points) {

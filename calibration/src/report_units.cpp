@@ -91,9 +91,9 @@ std::string physicalDescription(const Combination& combination,
           std::count_if(info.begin(), info.end(),
                         [&](const ParameterInfo& q) { return q.keyPath == p.keyPath; }));
       const std::string& last = info[static_cast<std::size_t>(terms[end - 1].first)].name;
-      what = run == inComponent
-                 ? "every parameter of " + componentLabel(p.keyPath) + " (" + std::to_string(run) + ")"
-                 : p.name + " .. " + last + " (" + std::to_string(run) + ")";
+      what = run == inComponent ? "every parameter of " + componentLabel(p.keyPath) + " (" +
+                                      std::to_string(run) + ")"
+                                : p.name + " .. " + last + " (" + std::to_string(run) + ")";
     } else if (run == 2) {
       others.push_back(stepText + " " + unit.unit + " of " + p.name);
       what = info[static_cast<std::size_t>(terms[t + 1].first)].name;

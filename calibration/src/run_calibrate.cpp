@@ -194,8 +194,7 @@ int runCalibrate(const CalibrateOptions& options, std::ostream& out) {
   } else if (options.folds >= 2) {
     out << "cross-validating: " << options.folds << " fits, each without one fold of the points"
         << std::endl;
-    context.validation =
-        detail::crossValidate(factory, measurements, options.folds, solveOptions);
+    context.validation = detail::crossValidate(factory, measurements, options.folds, solveOptions);
   }
   if (!options.predictPath.empty()) {
     const auto* spec = std::get_if<model::MachineModelSpec>(&document.spec);

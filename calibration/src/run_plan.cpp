@@ -104,10 +104,12 @@ Json planJson(const PlanVerbOptions& options, const PlanResult& plan,
   Json combinations = Json::array();
   for (const Combination& c : st.unidentifiable) {
     Json names = Json::array();
-    for (const auto& [j, coefficient] : c.terms) names.push_back(info[static_cast<std::size_t>(j)].name);
-    combinations.push_back({{"parameters", names},
-                            {"description", c.description},
-                            {"physical", physicalDescription(c, info, false, AngleDisplay::Microradian)}});
+    for (const auto& [j, coefficient] : c.terms)
+      names.push_back(info[static_cast<std::size_t>(j)].name);
+    combinations.push_back(
+        {{"parameters", names},
+         {"description", c.description},
+         {"physical", physicalDescription(c, info, false, AngleDisplay::Microradian)}});
   }
   Json selected = Json::array();
   for (std::size_t i : plan.selected) {
@@ -172,9 +174,9 @@ int runPlan(const PlanVerbOptions& options, std::ostream& out) {
     }
   }
   if (static_cast<std::size_t>(options.points) > candidates.size()) {
-    throw ConfigError(kCommandLine, "--points",
-                      "expected at most the number of candidates (" +
-                          std::to_string(candidates.size()) + ")");
+    throw ConfigError(
+        kCommandLine, "--points",
+        "expected at most the number of candidates (" + std::to_string(candidates.size()) + ")");
   }
   out << "planning " << options.points << " of " << candidates.size() << " candidates"
       << " (D-optimal on the identifiable subspace, which also minimises the largest prediction "
@@ -205,7 +207,8 @@ int runPlan(const PlanVerbOptions& options, std::ostream& out) {
   std::size_t width = 9;
   for (const ParameterInfo& p : info) width = std::max(width, p.name.size());
   out << std::left << std::setw(static_cast<int>(width)) << "parameter" << std::right
-      << std::setw(11) << "sigma" << "  unit\n";
+      << std::setw(11) << "sigma"
+      << "  unit\n";
   for (std::size_t j = 0; j < info.size(); ++j) {
     const DisplayUnit unit = screenUnit(info[j], angles);
     out << std::left << std::setw(static_cast<int>(width)) << info[j].name << std::right
@@ -226,7 +229,8 @@ int runPlan(const PlanVerbOptions& options, std::ostream& out) {
     detail::writeJsonFile(options.reportPath, planJson(options, plan, candidates, info), inputs);
   }
   if (!options.outPath.empty()) out << "\nplan written to " << options.outPath;
-  if (!options.reportPath.empty()) out << (options.outPath.empty() ? "\n" : ", ") << "report to " << options.reportPath;
+  if (!options.reportPath.empty())
+    out << (options.outPath.empty() ? "\n" : ", ") << "report to " << options.reportPath;
   out << std::endl;
   return 0;
 }

@@ -158,7 +158,8 @@ void CsvReader::splitCurrent() {
 
 void CsvReader::readHeader() {
   const std::string expected = expectedColumns(schema_);
-  if (!readLine()) throw ConfigError(file_, "", "empty file: expected a header line (" + expected + ")");
+  if (!readLine())
+    throw ConfigError(file_, "", "empty file: expected a header line (" + expected + ")");
   splitCurrent();
   columnOfSchema_.assign(schema_.columns.size(), -1);
   std::vector<std::string> seen;

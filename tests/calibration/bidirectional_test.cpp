@@ -13,8 +13,8 @@
 namespace volcomp::calibration {
 namespace {
 
-using nlohmann::json;
 using model::Direction;
+using nlohmann::json;
 using testing::SyntheticOptions;
 
 const std::vector<double> kNodes{0, 200, 400, 600, 800};

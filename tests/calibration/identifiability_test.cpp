@@ -96,7 +96,8 @@ TEST(Identifiability, SolutionIsTheMinimumNormChangeFromTheStartValues) {
     const FitResult fit = solve(problem, start, options);
     ASSERT_TRUE(fit.converged) << fit.termination;
     // The change from the start, in scaled units, has no component along the null space.
-    const Eigen::VectorXd change = (fit.parameters - start).cwiseQuotient(fit.statistics.columnScale);
+    const Eigen::VectorXd change =
+        (fit.parameters - start).cwiseQuotient(fit.statistics.columnScale);
     EXPECT_LT((fit.statistics.nullBasis.transpose() * change).norm(), 1e-8 * change.norm());
     // And the data are fitted: the identifiable c is recovered.
     EXPECT_NEAR(fit.parameters(2), truth(2), 4.0 * fit.statistics.standardDeviation(2));

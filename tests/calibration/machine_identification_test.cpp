@@ -351,10 +351,9 @@ TEST(MachineIdentification, BatchJacobianMatchesThePointByPointOne) {
   SyntheticOptions options;
   options.noiseMm = 1e-3;
   options.tools = fourTools();
-  options.directions = {{model::Direction::Positive, model::Direction::Negative,
-                         model::Direction::Unknown},
-                        {model::Direction::Negative, model::Direction::Positive,
-                         model::Direction::Positive}};
+  options.directions = {
+      {model::Direction::Positive, model::Direction::Negative, model::Direction::Unknown},
+      {model::Direction::Negative, model::Direction::Positive, model::Direction::Positive}};
   json t = vmcTemplate();
   t["components"]["EXX"] = {{"identify",
                              {{"basis", "table"},

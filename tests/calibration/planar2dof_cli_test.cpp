@@ -94,10 +94,13 @@ TEST(Planar2DofCli, RecoversThePaperValuesWithinTwoSigma) {
   // (expected 95 %), none beyond 4 sigma; the report's values are in the table's units.
   volcomp::testing::TempDir dir;
   const Planar2DofParameters truth = testing::paperOptimised();
-  const std::vector<std::pair<std::string, double>> expected{
-      {"eLa", truth[eLa]},       {"eLb", truth[eLb]},         {"ea", truth[ea]},
-      {"eha", truth[eha]},       {"phi", truth[phi] / testing::kDeg},
-      {"exK", truth[exK] * 1e3}, {"eyK", truth[eyK] * 1e3}};
+  const std::vector<std::pair<std::string, double>> expected{{"eLa", truth[eLa]},
+                                                             {"eLb", truth[eLb]},
+                                                             {"ea", truth[ea]},
+                                                             {"eha", truth[eha]},
+                                                             {"phi", truth[phi] / testing::kDeg},
+                                                             {"exK", truth[exK] * 1e3},
+                                                             {"eyK", truth[eyK] * 1e3}};
   int within = 0, total = 0;
   for (unsigned seed = 3000; seed < 3020; ++seed) {
     CalibrateOptions options;

@@ -61,7 +61,8 @@ TEST(Planar2Dof, SevenParametersRecoveredWithinTwoSigmaFromPaperStart) {
   // converging from the paper's starting values.
   int within = 0, total = 0;
   for (unsigned seed = 2026; seed < 2046; ++seed) {
-    Planar2DofProblem problem({}, simulatePlanar(truth, noiseMm, seed), 0, kPaperFreeParameters, truth);
+    Planar2DofProblem problem({}, simulatePlanar(truth, noiseMm, seed), 0, kPaperFreeParameters,
+                              truth);
     SolveOptions options;
     options.method = Method::LevenbergMarquardt;
     const FitResult fit = solve(problem, problem.freeVector(paperStart()), options);
@@ -98,7 +99,8 @@ TEST(Planar2Dof, StandardDeviationsAreConsistentOverManyDataSets) {
     std::normal_distribution<double> noise(0.0, 1e-3);
     truth[exK] = noise(generator);
     truth[eyK] = noise(generator);
-    Planar2DofProblem problem({}, simulatePlanar(truth, 1e-3, seed), 0, kPaperFreeParameters, truth);
+    Planar2DofProblem problem({}, simulatePlanar(truth, 1e-3, seed), 0, kPaperFreeParameters,
+                              truth);
     SolveOptions options;
     options.method = Method::LevenbergMarquardt;
     const FitResult fit = solve(problem, problem.freeVector(paperStart()), options);

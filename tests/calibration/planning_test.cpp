@@ -105,7 +105,8 @@ TEST(Planning, PlannedNPointsReachRandomThreeNPoints) {
   double simulatedPlanned = 0.0;
   for (unsigned seed = 1; seed <= 5; ++seed) {
     simulatedPlanned +=
-        simulatedPredictionError(document, all, planned.selected, options.noiseMm, 100 + seed) / 5.0;
+        simulatedPredictionError(document, all, planned.selected, options.noiseMm, 100 + seed) /
+        5.0;
   }
   EXPECT_LE(simulatedPlanned, simulatedRandom);
   // And the propagated sigma describes the simulated error (RMS over the candidates), up to what

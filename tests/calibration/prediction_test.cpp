@@ -69,7 +69,8 @@ TEST(Prediction, SigmaMatchesTheScatterOfRepeatedFits) {
     options.seed = seed;
     options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
     const MeasurementSet data = simulate(testing::machineSpec(truthModel()), options);
-    const auto problem = makeIdentificationProblem(testing::templateDocument(templateModel()), data);
+    const auto problem =
+        makeIdentificationProblem(testing::templateDocument(templateModel()), data);
     const FitResult fit = solve(*problem, problem->startVector());
     PredictionPoint at;
     at.qMm = q;

@@ -271,8 +271,7 @@ TEST_F(RunCalibrate, FarTooFewPointsAreRefusedWithASummaryUnlessForced) {
   EXPECT_FALSE(fs::exists(options.outPath));
   // The summary says per component what is missing and what the data cover, in a few lines.
   const std::string summary = out.str();
-  EXPECT_NE(summary.find("components.EXX: 2 of 2 not identifiable"), std::string::npos)
-      << summary;
+  EXPECT_NE(summary.find("components.EXX: 2 of 2 not identifiable"), std::string::npos) << summary;
   EXPECT_NE(summary.find("the data: 1 point, X 100..100 mm"), std::string::npos) << summary;
   options.force = true;
   std::ostringstream forced;

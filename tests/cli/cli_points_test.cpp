@@ -207,7 +207,7 @@ TEST(CliPoints, BadHeader) {
   EXPECT_EQ(run.status, 2);
   EXPECT_EQ(run.errLines(), 1) << run.err;
   EXPECT_NE(run.err.find(in + ": line 1: unknown column \"a\" (expected x,y,z and optionally "
-                                "tx,ty,tz,direction"),
+                              "tx,ty,tz,direction"),
             std::string::npos)
       << run.err;
 }
@@ -218,13 +218,12 @@ TEST(CliPoints, ColumnsInAnyOrderWithToolDirectionCommentsAndUnits) {
   // comments, unit suffixes and columns of a measurement file that eval does not read.
   TempDir dir;
   const std::string model = dir.write("m.json", kModel);
-  const std::string in = dir.write(
-      "in.csv",
-      "# tracer points, two tools, X approached from both sides\n"
-      "tz,direction,x_um,y,z,tx,ty,ex\n"
-      "200,-++,412500,250.25,-123.456,10,0,0.001\n"
-      "# comment\n"
-      "120,+++,100000,3,-4,0,0,0.002\n");
+  const std::string in = dir.write("in.csv",
+                                   "# tracer points, two tools, X approached from both sides\n"
+                                   "tz,direction,x_um,y,z,tx,ty,ex\n"
+                                   "200,-++,412500,250.25,-123.456,10,0,0.001\n"
+                                   "# comment\n"
+                                   "120,+++,100000,3,-4,0,0,0.002\n");
   const std::string out = (dir.path() / "out.csv").string();
   const CliRun run =
       runCli(dir, "eval " + quoted(model) + " --points " + quoted(in) + " --out " + quoted(out));
@@ -270,8 +269,9 @@ TEST(CliPoints, AToolFarFromTheCalibratedToolsIsWarnedAbout) {
             std::string::npos)
       << run.err;
   // Per-point tools: each far tool once, with its first line.
-  const std::string in = dir.write("in.csv", "x,y,z,tx,ty,tz\n1,2,-3,0,0,150\n1,2,-3,50,0,120\n"
-                                             "4,5,-6,50,0,120\n");
+  const std::string in = dir.write("in.csv",
+                                   "x,y,z,tx,ty,tz\n1,2,-3,0,0,150\n1,2,-3,50,0,120\n"
+                                   "4,5,-6,50,0,120\n");
   run = runCli(dir, "eval " + quoted(model) + " --points " + quoted(in) + " --out " +
                         quoted((dir.path() / "o.csv").string()));
   ASSERT_EQ(run.status, 0) << run.err;

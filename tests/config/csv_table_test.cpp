@@ -147,7 +147,8 @@ TEST(CsvReader, MissingFile) {
     CsvReader::open("/nonexistent/in.csv");
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("/nonexistent/in.csv: cannot open file", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("/nonexistent/in.csv: cannot open file", 0), 0u)
+        << e.what();
   }
 }
 

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <numbers>
+#include <optional>
 #include <ostream>
 #include <variant>
 #include <vector>
@@ -176,9 +176,8 @@ int evalPoint(const EvalOptions& options, const model::MachineModel& model,
 int evalPoints(const EvalOptions& options, const config::ModelDocument& doc,
                const model::MachineModel& model, const model::Directions& directions,
                std::ostream& err) {
-  const PointsSummary s =
-      evaluatePointsFile(model, directions, evalMode(options), options.points,
-                         options.out, {options.modelPath});
+  const PointsSummary s = evaluatePointsFile(model, directions, evalMode(options), options.points,
+                                             options.out, {options.modelPath});
   for (std::size_t t = 0; t < s.toolsMm.size(); ++t) {
     warnFarTool(err, doc, s.toolsMm[t],
                 " (first at " + options.points + " line " + std::to_string(s.toolLines[t]) + ")");

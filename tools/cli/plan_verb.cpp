@@ -21,8 +21,9 @@ CLI::App* addPlanVerb(CLI::App& app, PlanArguments& arguments) {
       "--candidates", options.candidatesPath,
       "Candidate points: CSV x,y,z [,tx,ty,tz] [,direction] (mm; without tool columns each "
       "point is a candidate with every tool of --tools)");
-  CLI::Option* grid = verb->add_option(
-      "--grid", arguments.grid, "Candidates on a grid of NX,NY,NZ nodes over the template's travel");
+  CLI::Option* grid =
+      verb->add_option("--grid", arguments.grid,
+                       "Candidates on a grid of NX,NY,NZ nodes over the template's travel");
   candidates->excludes(grid);
   verb->add_option("--points", options.points, "Number of points N to measure")
       ->required()

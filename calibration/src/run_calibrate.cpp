@@ -84,13 +84,8 @@ SolveOptions solveOptionsFrom(const CalibrateOptions& options, std::ostream& out
 // Points to predict at: the shared CSV reader, positions with optional tool and direction.
 std::vector<PointPrediction> readPredictionPoints(const std::string& path,
                                                   const Eigen::Vector3d& templateTool) {
-  using config::CsvQuantity;
-  config::CsvSchema schema;
-  schema.add({"x", "y", "z"}, CsvQuantity::Length, true)
-      .addGroup({"tx", "ty", "tz"}, CsvQuantity::Length)
-      .add({"direction"}, CsvQuantity::Direction);
   std::ifstream input = config::CsvReader::open(path);
-  config::CsvReader csv(input, path, schema);
+  config::CsvReader csv(input, path, config::positionsSchema());
   const int direction = csv.column("direction");
   std::vector<PointPrediction> points;
   while (csv.next()) {

@@ -25,13 +25,8 @@ constexpr const char* kCommandLine = "command line";
 std::vector<PlanCandidate> readCandidates(const std::string& path,
                                           const std::vector<Eigen::Vector3d>& tools,
                                           bool& hasDirection) {
-  using config::CsvQuantity;
-  config::CsvSchema schema;
-  schema.add({"x", "y", "z"}, CsvQuantity::Length, true)
-      .addGroup({"tx", "ty", "tz"}, CsvQuantity::Length)
-      .add({"direction"}, CsvQuantity::Direction);
   std::ifstream input = config::CsvReader::open(path);
-  config::CsvReader csv(input, path, schema);
+  config::CsvReader csv(input, path, config::positionsSchema());
   const int direction = csv.column("direction");
   hasDirection = direction >= 0;
   std::vector<PlanCandidate> positions;

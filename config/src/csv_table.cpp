@@ -90,6 +90,14 @@ bool parseDirectionsText(std::string_view text, model::Directions& directions) n
   return axis == 3;
 }
 
+CsvSchema positionsSchema() {
+  CsvSchema schema;
+  schema.add({"x", "y", "z"}, CsvQuantity::Length, true)
+      .addGroup({"tx", "ty", "tz"}, CsvQuantity::Length)
+      .add({"direction"}, CsvQuantity::Direction);
+  return schema;
+}
+
 std::ifstream CsvReader::open(const std::string& path) {
   return openTextFile(path);
 }

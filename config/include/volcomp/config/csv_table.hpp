@@ -62,6 +62,10 @@ struct CsvSchema {
   CsvSchema& ignore(std::initializer_list<const char*> names);
 };
 
+/// The columns of a file of positions (points to evaluate or predict at, planning candidates):
+/// x,y,z (lengths, required), tx,ty,tz (tool offset, together or not at all), direction.
+CsvSchema positionsSchema();
+
 /// Streaming reader over a CSV text with a header (see the file comment).
 class CsvReader {
  public:

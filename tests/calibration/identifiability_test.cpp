@@ -143,10 +143,11 @@ TEST(Identifiability, TheExampleTemplatesRotationsAboutZAreNamedCompletely) {
       config::loadModelFile(examples + "/vmc-xyfz-21-true.json").spec);
   testing::SyntheticOptions options;
   options.x = {0, 85, 170, 255, 340, 425, 510, 595, 680, 765, 850};
-  options.y = {0, 100, 200, 300, 400, 500};
-  // At every table node (85 mm in X, 100 mm in Y and Z): fewer Z positions than Z nodes would
-  // leave nodes of the Z tables unidentifiable besides the structural combinations.
-  options.z = {-500, -400, -300, -200, -100, 0};
+  options.y = {0, 50, 100, 150, 200, 250, 300, 350, 400, 450, 500};
+  // The end-to-end test's spacing: a straightness c2..c6 together with the linear and constant
+  // terms other components carry needs more than 7 positions along its axis, and the tables as
+  // many positions as nodes; fewer leave combinations besides the 3 structural ones.
+  options.z = {-500, -437.5, -375, -312.5, -250, -187.5, -125, -62.5, 0};
   options.tools = {Eigen::Vector3d(0, 0, 120), Eigen::Vector3d(0, 0, 220),
                    Eigen::Vector3d(100, 0, 120), Eigen::Vector3d(0, 100, 120)};
   options.noiseMm = 5e-4;

@@ -30,11 +30,11 @@ model::MachineModelSpec trueMachine() {
       config::loadModelFile(kExamples + "/vmc-xyfz-21-true.json").spec);
 }
 
-// Candidates: 11 x 6 x 6 positions over the travel (every table node of the template: fewer
-// positions than nodes along an axis would leave nodes no design can identify) with the four
-// tools of the end-to-end test.
+// Candidates: 11 x 11 x 9 positions over the travel with the four tools of the end-to-end test
+// (fewer positions along Y or Z leave a straightness polynomial, c2..c6 beside the linear and
+// constant terms of other components, with a combination no design can separate).
 std::vector<PlanCandidate> candidates(const config::ModelDocument& document) {
-  return gridCandidates(std::get<model::MachineModelSpec>(document.spec), {11, 6, 6},
+  return gridCandidates(std::get<model::MachineModelSpec>(document.spec), {11, 11, 9},
                         {Eigen::Vector3d(0, 0, 120), Eigen::Vector3d(0, 0, 220),
                          Eigen::Vector3d(100, 0, 120), Eigen::Vector3d(0, 100, 120)});
 }

@@ -3,7 +3,11 @@
 //   paper's starting values, with covariance and rank analysis. Target <= 1 ms.
 // - 21 components of an XYFZ machine as 8-node tables (18 x 8 + 3 = 147 parameters), 5000
 //   points (1000 positions x 5 tools), linear identification including covariance, correlation
-//   and the naming of unidentifiable combinations. Target <= 0.3 s.
+//   and the naming of unidentifiable combinations. Target <= 0.1 s on one core (issue 15).
+// - The factorisation alone on that case's column-scaled 15000 x 147 sensitivity matrix, three
+//   ways: Eigen's HouseholderQR (what the identification uses), ColPivHouseholderQR, and the
+//   normal equations (J^T J by a rank update, then SelfAdjointEigenSolver), to choose between
+//   them (docs/calibration.md).
 
 #include <benchmark/benchmark.h>
 
@@ -11,7 +15,10 @@
 #include <numbers>
 #include <random>
 
-#include "synthetic.hpp"
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+
+#include "vmc_case.hpp"
 #include "volcomp/calibration/identification.hpp"
 #include "volcomp/calibration/planar2dof.hpp"
 
@@ -60,76 +67,8 @@ void BM_Seed003PlanarFit(benchmark::State& state) {
 }
 BENCHMARK(BM_Seed003PlanarFit)->Unit(benchmark::kMicrosecond);
 
-json vmcTruth() {
-  json components = json::object();
-  const std::vector<double> positions{0, 100, 200, 300, 400, 500, 600, 700};
-  std::mt19937 generator(21);
-  std::normal_distribution<double> value(0.0, 5.0);
-  for (int i = 0; i < 18; ++i) {
-    std::vector<double> values;
-    for (std::size_t j = 0; j < positions.size(); ++j) values.push_back(value(generator));
-    const int axis = i / 6;
-    std::vector<double> scaled = positions;
-    for (double& p : scaled)
-      p = axis == 2 ? -p * 4.0 / 7.0 : p * (axis == 1 ? 5.0 / 7.0 : 8.0 / 7.0);
-    if (axis == 2) std::reverse(scaled.begin(), scaled.end());
-    components[model::motionName(i)] = {
-        {"positions", scaled}, {"values", values}, {"interpolation", "linear"}};
-  }
-  components["EC0Y"] = 12.0;
-  components["EB0Z"] = -8.0;
-  components["EA0Z"] = 5.0;
-  return json{{"format", "volcomp-model/1"},
-              {"topology", "XYFZ"},
-              {"tool", {0, 0, 100}},
-              {"error_units", {{"length", "um"}, {"angle", "urad"}}},
-              {"components", components}};
-}
-
-json vmcTemplate(const json& truth) {
-  json t = truth;
-  for (auto& [name, component] : t["components"].items()) {
-    if (name.size() == 4) {
-      component = {{"identify", "constant"}};
-    } else {
-      component = {{"identify",
-                    {{"basis", "table"},
-                     {"positions", component["positions"]},
-                     {"interpolation", "linear"}}}};
-    }
-  }
-  return t;
-}
-
-struct VmcCase {
-  config::ModelDocument document;
-  MeasurementSet data;
-};
-
-const VmcCase& vmcCase() {
-  static const VmcCase instance = [] {
-    const json truth = vmcTruth();
-    testing::SyntheticOptions options;
-    options.x.clear();
-    options.y.clear();
-    options.z.clear();
-    for (int i = 0; i < 10; ++i) {
-      options.x.push_back(800.0 * i / 9.0);
-      options.y.push_back(500.0 * i / 9.0);
-      options.z.push_back(-400.0 * i / 9.0);
-    }
-    options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250),
-                     Eigen::Vector3d(150, 0, 150), Eigen::Vector3d(0, 150, 150),
-                     Eigen::Vector3d(-100, -100, 200)};
-    options.noiseMm = 1e-3;
-    return VmcCase{testing::templateDocument(vmcTemplate(truth)),
-                   testing::simulate(testing::machineSpec(truth), options)};
-  }();
-  return instance;
-}
-
 void BM_TwentyOneComponentIdentification(benchmark::State& state) {
-  const VmcCase& c = vmcCase();
+  const bench::VmcCase& c = bench::vmcCase();
   const auto problem = makeIdentificationProblem(c.document, c.data);
   int rank = 0;
   for (auto _ : state) {
@@ -143,8 +82,64 @@ void BM_TwentyOneComponentIdentification(benchmark::State& state) {
 }
 BENCHMARK(BM_TwentyOneComponentIdentification)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
+const Eigen::MatrixXd& scaledJacobian() {
+  static const Eigen::MatrixXd jacobian = [] {
+    const bench::VmcCase& c = bench::vmcCase();
+    const auto problem = makeIdentificationProblem(c.document, c.data);
+    Eigen::MatrixXd j;
+    problem->jacobian(problem->startVector(), j);
+    for (Eigen::Index k = 0; k < j.cols(); ++k) {
+      if (j.col(k).norm() > 0.0) j.col(k).normalize();
+    }
+    return j;
+  }();
+  return jacobian;
+}
+
+// Each iteration factorises a fresh copy (the copy is not timed).
+template <typename Factorise>
+void timeFactorisation(benchmark::State& state, Factorise factorise) {
+  const Eigen::MatrixXd& j = scaledJacobian();
+  Eigen::MatrixXd a(j.rows(), j.cols());
+  for (auto _ : state) {
+    state.PauseTiming();
+    a = j;
+    state.ResumeTiming();
+    factorise(a);
+    benchmark::ClobberMemory();
+  }
+  state.counters["rows"] = static_cast<double>(j.rows());
+  state.counters["cols"] = static_cast<double>(j.cols());
+}
+
+void BM_QrEigenHouseholder(benchmark::State& state) {
+  timeFactorisation(state, [&](Eigen::MatrixXd& a) {
+    Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(a);
+    benchmark::DoNotOptimize(qr.hCoeffs().data());
+  });
+}
+BENCHMARK(BM_QrEigenHouseholder)->Unit(benchmark::kMillisecond);
+
+void BM_QrEigenColPiv(benchmark::State& state) {
+  timeFactorisation(state, [&](Eigen::MatrixXd& a) {
+    Eigen::ColPivHouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(a);
+    benchmark::DoNotOptimize(qr.rank());
+  });
+}
+BENCHMARK(BM_QrEigenColPiv)->Unit(benchmark::kMillisecond);
+
+void BM_NormalEquationsEigen(benchmark::State& state) {
+  timeFactorisation(state, [&](Eigen::MatrixXd& a) {
+    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(a.cols(), a.cols());
+    normal.selfadjointView<Eigen::Lower>().rankUpdate(a.transpose());
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(normal.selfadjointView<Eigen::Lower>());
+    benchmark::DoNotOptimize(eigen.eigenvalues().data());
+  });
+}
+BENCHMARK(BM_NormalEquationsEigen)->Unit(benchmark::kMillisecond);
+
 void BM_TwentyOneComponentProblemSetUp(benchmark::State& state) {
-  const VmcCase& c = vmcCase();
+  const bench::VmcCase& c = bench::vmcCase();
   for (auto _ : state) {
     const auto problem = makeIdentificationProblem(c.document, c.data);
     benchmark::DoNotOptimize(problem.get());

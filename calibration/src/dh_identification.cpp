@@ -73,8 +73,8 @@ class DhIdentification final : public IdentificationProblem {
       const auto add = [&](Field field, int component, const std::string& name, bool angle) {
         DeviationParameter parameter{link, field, component, deviation(spec, field, component)};
         parameters_.push_back(parameter);
-        info_.push_back(
-            {name, keyPath, angle ? "deg" : "mm", angle ? 1.0 / kDegToRad : 1.0, false});
+        info_.push_back({name, keyPath, angle ? "deg" : "mm", angle ? 1.0 / kDegToRad : 1.0, false,
+                         angle ? ParameterInfo::Kind::Angle : ParameterInfo::Kind::Length});
       };
       if (key == "dtheta") add(Field::Theta, 0, label, true);
       if (key == "dd") add(Field::D, 0, label, false);
@@ -110,7 +110,7 @@ class DhIdentification final : public IdentificationProblem {
                         "tool)");
     }
     // Joint types in chain order, to convert revolute values from degrees.
-    std::vector<bool> revolute;
+    std::vector<bool>& revolute = revolute_;
     for (const model::DhLinkSpec& link : template_.links) {
       if (link.joint == model::JointType::Revolute) revolute.push_back(true);
       if (link.joint == model::JointType::Prismatic) revolute.push_back(false);
@@ -174,6 +174,17 @@ class DhIdentification final : public IdentificationProblem {
   }
   bool nearlyLinear() const override { return false; }
 
+ protected:
+  Eigen::Vector3d predictError(const Eigen::VectorXd& p, const PredictionPoint& at) const override {
+    const model::DhChain chain(withDeviations(p.data()));
+    std::vector<double> joints;
+    for (std::size_t j = 0; j < revolute_.size(); ++j) {
+      const double value = at.joints.empty() ? at.qMm[static_cast<Eigen::Index>(j)] : at.joints[j];
+      joints.push_back(revolute_[j] ? value * kDegToRad : value);
+    }
+    return chain.evaluate(joints.data()).errorMm;
+  }
+
  private:
   struct Point {
     std::vector<double> joints;
@@ -197,6 +208,7 @@ class DhIdentification final : public IdentificationProblem {
   IdentificationOptions options_;
   bool hasAngles_ = false;
   std::vector<DeviationParameter> parameters_;
+  std::vector<bool> revolute_;
   int frameFirst_ = -1;
   std::vector<Point> points_;
 };

@@ -36,12 +36,12 @@ inline Eigen::Vector3d predictedAngularError(const double* frame,
 inline void appendFrameInfo(std::vector<ParameterInfo>& info, const std::string& lengthUnit,
                             double lengthToMm, const std::string& angleUnit, double angleToRad) {
   for (const char* axis : {"rx", "ry", "rz"}) {
-    info.push_back(
-        {std::string("frame ") + axis, "instrument_frame", angleUnit, 1.0 / angleToRad, true});
+    info.push_back({std::string("frame ") + axis, "instrument_frame", angleUnit, 1.0 / angleToRad,
+                    true, ParameterInfo::Kind::Angle});
   }
   for (const char* axis : {"tx", "ty", "tz"}) {
-    info.push_back(
-        {std::string("frame ") + axis, "instrument_frame", lengthUnit, 1.0 / lengthToMm, true});
+    info.push_back({std::string("frame ") + axis, "instrument_frame", lengthUnit, 1.0 / lengthToMm,
+                    true, ParameterInfo::Kind::Length});
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 #include <utility>
@@ -83,27 +84,60 @@ void ResidualProblem::jacobian(const Eigen::VectorXd& p, Eigen::MatrixXd& jacobi
   }
 }
 
-ResidualStats residualStats(const ResidualProblem& problem, const Eigen::VectorXd& p) {
-  const int k = problem.residualsPerObservation();
-  const int rows = std::min(k, problem.statisticsRows());
-  std::vector<double> block(k);
-  ResidualStats stats;
-  double sum = 0.0;
-  const int obs = problem.observationCount();
-  for (int i = 0; i < obs; ++i) {
-    problem.observationResiduals(p.data(), i, block.data());
-    double squared = 0.0;
-    for (int row = 0; row < rows; ++row) squared += block[row] * block[row];
-    const double weight = problem.observationWeight(i);
-    const double norm = weight > 0.0 ? std::sqrt(squared / weight) : 0.0;
-    sum += norm * norm;
-    if (norm > stats.max) {
-      stats.max = norm;
-      stats.maxIndex = i;
+ResidualAccumulator::ResidualAccumulator(int rows) {
+  stats_.rowRms = Eigen::VectorXd::Zero(rows);
+  stats_.rowMax = Eigen::VectorXd::Zero(rows);
+  stats_.rowMaxIndex.assign(static_cast<std::size_t>(rows), -1);
+}
+
+void ResidualAccumulator::add(const double* residuals, int index) {
+  double squared = 0.0;
+  for (Eigen::Index row = 0; row < stats_.rowRms.size(); ++row) {
+    const double value = std::abs(residuals[row]);
+    squared += value * value;
+    stats_.rowRms(row) += value * value;
+    if (value > stats_.rowMax(row)) {
+      stats_.rowMax(row) = value;
+      stats_.rowMaxIndex[static_cast<std::size_t>(row)] = index;
     }
   }
-  stats.rms = obs > 0 ? std::sqrt(sum / obs) : 0.0;
-  return stats;
+  sum_ += squared;
+  ++count_;
+  const double norm = std::sqrt(squared);
+  if (norm > stats_.max) {
+    stats_.max = norm;
+    stats_.maxIndex = index;
+  }
+}
+
+ResidualStats ResidualAccumulator::finish() const {
+  ResidualStats out = stats_;
+  if (count_ > 0) {
+    out.rms = std::sqrt(sum_ / count_);
+    out.rowRms = (out.rowRms / count_).cwiseSqrt();
+  }
+  return out;
+}
+
+void accumulateResiduals(const ResidualProblem& problem, const Eigen::VectorXd& p,
+                         ResidualAccumulator& accumulator, int first) {
+  const int k = problem.residualsPerObservation();
+  const int rows = std::min(k, problem.statisticsRows());
+  std::vector<double> block(static_cast<std::size_t>(k));
+  for (int i = 0; i < problem.observationCount(); ++i) {
+    problem.observationResiduals(p.data(), i, block.data());
+    const double weight = problem.observationWeight(i);
+    const double unweight = weight > 0.0 ? 1.0 / std::sqrt(weight) : 0.0;
+    for (int row = 0; row < rows; ++row) block[static_cast<std::size_t>(row)] *= unweight;
+    accumulator.add(block.data(), first + i);
+  }
+}
+
+ResidualStats residualStats(const ResidualProblem& problem, const Eigen::VectorXd& p) {
+  ResidualAccumulator accumulator(
+      std::min(problem.residualsPerObservation(), problem.statisticsRows()));
+  accumulateResiduals(problem, p, accumulator);
+  return accumulator.finish();
 }
 
 // ---- Scaled SVD ---------------------------------------------------------------------------------
@@ -148,16 +182,13 @@ Eigen::VectorXd ScaledSvd::projectResiduals(const Eigen::VectorXd& residuals) co
   // U_k^T r, with U = Q [U_R; 0] for the tall case.
   if (tall) {
     Eigen::VectorXd qtr = residuals;
-    const Eigen::HouseholderSequence<Eigen::MatrixXd, Eigen::VectorXd> q(factors,
-                                                                         householderCoefficients);
-    qtr.applyOnTheLeft(q.transpose());
+    qtr.applyOnTheLeft(Eigen::householderSequence(factors, householderCoefficients).adjoint());
     return uSmall.leftCols(rank).transpose() * qtr.head(uSmall.rows());
   }
   return uSmall.leftCols(rank).transpose() * residuals;
 }
 
-Eigen::VectorXd ScaledSvd::step(const Eigen::VectorXd& residuals) const {
-  const Eigen::VectorXd projected = projectResiduals(residuals);
+Eigen::VectorXd ScaledSvd::step(const Eigen::VectorXd& projected) const {
   const Eigen::VectorXd scaledStep =
       -(v.leftCols(rank) * (projected.array() / singularValues.head(rank).array()).matrix());
   return columnScale.asDiagonal() * scaledStep;
@@ -169,20 +200,19 @@ namespace {
 
 std::string formatCoefficient(double value) {
   std::ostringstream out;
-  out.setf(std::ios::fixed);
-  out.precision(2);
-  out << (value >= 0 ? "+" : "") << value;
+  out << (value >= 0 ? "+" : "") << std::setprecision(3) << value;
   return out.str();
 }
 
-// Reduced row echelon form of the null-space basis (rows = directions): each direction then has
-// a 1 at "its" pivot parameter and 0 at the others' pivots, which turns an arbitrary orthonormal
-// basis into combinations that are as sparse as the data allow (e.g. {ea+eb, eha+ehb} rather than
-// two mixtures of all four).
-Eigen::MatrixXd reducedRowEchelon(Eigen::MatrixXd rows) {
+// Reduced row echelon form of the null-space basis (rows = directions), complete pivoting: each
+// direction then has a 1 at "its" pivot parameter and 0 at the others' pivots, which turns an
+// arbitrary orthonormal basis into combinations that are as sparse as the data allow (e.g.
+// {ea+eb, eha+ehb} rather than two mixtures of all four). Returns the pivot of each row.
+std::vector<Eigen::Index> reducedRowEchelon(Eigen::MatrixXd& rows) {
   const Eigen::Index q = rows.rows();
   const Eigen::Index n = rows.cols();
   std::vector<bool> pivotUsed(n, false);
+  std::vector<Eigen::Index> pivots;
   for (Eigen::Index r = 0; r < q; ++r) {
     Eigen::Index bestRow = r, bestCol = -1;
     double best = 0.0;
@@ -201,9 +231,11 @@ Eigen::MatrixXd reducedRowEchelon(Eigen::MatrixXd rows) {
     for (Eigen::Index i = 0; i < q; ++i) {
       if (i != r) rows.row(i) -= rows(i, bestCol) * rows.row(r);
     }
+    rows(r, bestCol) = 1.0;
     pivotUsed[bestCol] = true;
+    pivots.push_back(bestCol);
   }
-  return rows;
+  return pivots;
 }
 
 std::string describe(const std::vector<std::pair<int, double>>& terms,
@@ -224,15 +256,77 @@ std::string describe(const std::vector<std::pair<int, double>>& terms,
     if (t > 0) out << ", ";
     out << names[terms[t].first] << " " << formatCoefficient(terms[t].second);
   }
-  out << ", in units of their sensitivities) leaves every residual unchanged; fix one of them or "
-         "add measurements that distinguish them";
+  out << ", in units of their sensitivities) leaves the measured residuals unchanged; fix one of "
+         "them or add measurements that distinguish them";
   return out.str();
+}
+
+// Parameters whose share in every null direction is rounding noise (below the threshold) are
+// taken out of the basis before it is brought to echelon form, so that the listed combinations
+// hold exactly the parameters flagged as not identifiable.
+std::vector<Combination> namedCombinations(const ScaledSvd& svd,
+                                           const std::vector<bool>& identifiable,
+                                           const std::vector<std::string>& names,
+                                           double threshold) {
+  const Eigen::Index n = svd.v.rows();
+  const Eigen::Index k = svd.rank;
+  std::vector<Combination> combinations;
+  if (k >= n) return combinations;
+  Eigen::MatrixXd directions = svd.v.rightCols(n - k).transpose();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (identifiable[static_cast<std::size_t>(j)]) directions.col(j).setZero();
+  }
+  const std::vector<Eigen::Index> pivots = reducedRowEchelon(directions);
+  const double largest = svd.singularValues.size() > 0 ? svd.singularValues(0) : 0.0;
+  // Which shares are listed: those of at least the threshold (relative to the direction's
+  // largest); a parameter not identifiable whose shares are all below it (spread over several
+  // directions) is listed where its share is largest, so that every such parameter is named.
+  Eigen::MatrixXd relative = directions.topRows(static_cast<Eigen::Index>(pivots.size()));
+  for (Eigen::Index d = 0; d < relative.rows(); ++d) {
+    relative.row(d) /= relative.row(d).cwiseAbs().maxCoeff();
+  }
+  const auto listed = [&](std::size_t d, Eigen::Index j) {
+    const double share = std::abs(relative(static_cast<Eigen::Index>(d), j));
+    if (share >= threshold) return true;
+    Eigen::Index strongest = 0;
+    relative.col(j).cwiseAbs().maxCoeff(&strongest);
+    return share > 0.0 && strongest == static_cast<Eigen::Index>(d) &&
+           relative.col(j).cwiseAbs().maxCoeff() < threshold;
+  };
+  for (std::size_t d = 0; d < pivots.size(); ++d) {
+    const Eigen::VectorXd direction = directions.row(static_cast<Eigen::Index>(d)).transpose();
+    const double largestTerm = direction.cwiseAbs().maxCoeff();
+    Combination combination;
+    combination.pivot = static_cast<int>(pivots[d]);
+    const double pivotRaw = svd.columnScale(pivots[d]) * direction(pivots[d]);
+    Eigen::VectorXd raw = Eigen::VectorXd::Zero(n);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      // Shares below the threshold are noise of the basis (rounding, finite differences),
+      // unless the parameter would otherwise appear in no combination (see below).
+      if (identifiable[static_cast<std::size_t>(j)] || !listed(d, j)) continue;
+      combination.terms.emplace_back(static_cast<int>(j), direction(j) / largestTerm);
+      raw(j) = svd.columnScale(j) * direction(j) / pivotRaw;
+      combination.rawTerms.emplace_back(static_cast<int>(j), raw(j));
+    }
+    // |Js D^-1 d| = |S V^T D^-1 d|.
+    const Eigen::VectorXd scaled = raw.cwiseQuotient(svd.columnScale);
+    combination.residualChangePerPivotUnit =
+        (svd.singularValues.asDiagonal() * (svd.v.transpose() * scaled)).norm();
+    combination.relativeSingularValue =
+        largest > 0.0 ? (svd.singularValues.asDiagonal() * (svd.v.transpose() * direction)).norm() /
+                            direction.norm() / largest
+                      : 0.0;
+    combination.description = describe(combination.terms, names);
+    combinations.push_back(std::move(combination));
+  }
+  return combinations;
 }
 
 }  // namespace
 
 FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::VectorXd& residuals,
-                                const std::vector<std::string>& names) {
+                                const std::vector<std::string>& names, double rankTolerance,
+                                double identifiabilityThreshold) {
   FitStatistics stats;
   const Eigen::Index n = svd.v.rows();
   const Eigen::Index m = residuals.size();
@@ -250,53 +344,77 @@ FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::VectorXd& res
   stats.dof = static_cast<int>(m) - k;
   stats.varianceFactor = stats.dof > 0 ? stats.rss / stats.dof : 0.0;
 
-  const Eigen::MatrixXd vk = svd.v.leftCols(k);
-  const Eigen::VectorXd inverseSquared = svd.singularValues.head(k).array().square().inverse();
-  const Eigen::MatrixXd scaledCovariance = vk * inverseSquared.asDiagonal() * vk.transpose();
-  stats.covariance = stats.varianceFactor * (svd.columnScale.asDiagonal() * scaledCovariance *
-                                             svd.columnScale.asDiagonal());
+  stats.columnScale = svd.columnScale;
+  stats.nullBasis = svd.v.rightCols(n - k);
+  stats.rangeFactor = svd.columnScale.asDiagonal() * svd.v.leftCols(k) *
+                      svd.singularValues.head(k).cwiseInverse().asDiagonal();
+  stats.covariance = stats.varianceFactor * stats.rangeFactor * stats.rangeFactor.transpose();
+
+  stats.identifiabilityThreshold = identifiabilityThreshold;
+  stats.nullThreshold = rankTolerance * largest;
+  stats.nullSpaceProjection = stats.nullBasis.rowwise().norm();
+  stats.identifiable.resize(static_cast<std::size_t>(n));
+  for (Eigen::Index j = 0; j < n; ++j) {
+    stats.identifiable[static_cast<std::size_t>(j)] =
+        stats.nullSpaceProjection(j) < identifiabilityThreshold;
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   stats.standardDeviation = stats.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
   stats.correlation = Eigen::MatrixXd::Identity(n, n);
   for (Eigen::Index i = 0; i < n; ++i) {
+    const bool iKnown = stats.identifiable[static_cast<std::size_t>(i)];
+    if (!iKnown) stats.standardDeviation(i) = nan;
     for (Eigen::Index j = 0; j < n; ++j) {
-      const double denominator = stats.standardDeviation(i) * stats.standardDeviation(j);
+      if (!iKnown || !stats.identifiable[static_cast<std::size_t>(j)]) {
+        stats.correlation(i, j) = nan;
+        continue;
+      }
+      const double denominator =
+          std::sqrt(stats.covariance(i, i)) * std::sqrt(stats.covariance(j, j));
       if (i != j) {
         stats.correlation(i, j) = denominator > 0.0 ? stats.covariance(i, j) / denominator : 0.0;
       }
     }
   }
-
-  stats.identifiable.assign(n, true);
-  if (k < n) {
-    const Eigen::MatrixXd directions = reducedRowEchelon(svd.v.rightCols(n - k).transpose());
-    for (Eigen::Index d = 0; d < directions.rows(); ++d) {
-      const Eigen::VectorXd direction = directions.row(d).transpose();
-      const double largestTerm = direction.cwiseAbs().maxCoeff();
-      if (!(largestTerm > 0.0)) continue;
-      Combination combination;
-      for (Eigen::Index j = 0; j < n; ++j) {
-        const double coefficient = direction(j) / largestTerm;
-        if (std::abs(coefficient) >= 0.1) {
-          combination.terms.emplace_back(static_cast<int>(j), coefficient);
-          stats.identifiable[j] = false;
-        }
-      }
-      combination.relativeSingularValue =
-          largest > 0.0
-              ? (svd.singularValues.asDiagonal() * (svd.v.transpose() * direction)).norm() /
-                    direction.norm() / largest
-              : 0.0;
-      combination.description = describe(combination.terms, names);
-      stats.unidentifiable.push_back(std::move(combination));
-    }
-  }
+  stats.unidentifiable =
+      namedCombinations(svd, stats.identifiable, names, identifiabilityThreshold);
   return stats;
 }
 
 FitStatistics analyse(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residuals,
-                      const std::vector<std::string>& names, double rankTolerance) {
+                      const std::vector<std::string>& names, double rankTolerance,
+                      double identifiabilityThreshold) {
   const ScaledSvd svd(jacobian, rankTolerance);
-  return analyseFactorised(svd, residuals, names);
+  return analyseFactorised(svd, residuals, names, rankTolerance, identifiabilityThreshold);
+}
+
+namespace {
+
+PredictionUncertainty uncertainty(const FitStatistics& statistics,
+                                  const Eigen::Ref<const Eigen::RowVectorXd>& g, bool absolute) {
+  PredictionUncertainty u;
+  const Eigen::RowVectorXd scaled = g.cwiseProduct(statistics.columnScale.transpose());
+  const double size = scaled.norm();
+  const double unseen =
+      statistics.nullBasis.cols() > 0 ? (scaled * statistics.nullBasis).norm() : 0.0;
+  u.nullShare = size > 0.0 ? unseen / size : 0.0;
+  u.determined = absolute ? unseen <= statistics.nullThreshold
+                          : u.nullShare < statistics.identifiabilityThreshold;
+  u.std = u.determined ? std::sqrt(statistics.varianceFactor) * (g * statistics.rangeFactor).norm()
+                       : std::numeric_limits<double>::quiet_NaN();
+  return u;
+}
+
+}  // namespace
+
+PredictionUncertainty predictionUncertainty(const FitStatistics& statistics,
+                                            const Eigen::Ref<const Eigen::RowVectorXd>& g) {
+  return uncertainty(statistics, g, true);
+}
+
+PredictionUncertainty functionUncertainty(const FitStatistics& statistics,
+                                          const Eigen::Ref<const Eigen::RowVectorXd>& g) {
+  return uncertainty(statistics, g, false);
 }
 
 // ---- Solve --------------------------------------------------------------------------------------
@@ -318,6 +436,7 @@ FitResult solveLinear(const ResidualProblem& problem, const Eigen::VectorXd& sta
   FitResult result;
   result.start = start;
   result.parameters = start;
+  result.linearisedAt = start;
   Eigen::VectorXd r;
   problem.residuals(start, r);
   Eigen::MatrixXd jacobian;
@@ -337,14 +456,15 @@ FitResult solveLinear(const ResidualProblem& problem, const Eigen::VectorXd& sta
       result.termination = "the residual has no component the parameters can still explain";
       break;
     }
-    result.parameters += svd.step(r);
+    result.parameters += svd.step(explainable);
     problem.residuals(result.parameters, r);
     result.iterations = iteration;
     std::ostringstream line;
     line << "iteration " << iteration << ": |r| = " << r.norm();
     report(options, line.str());
   }
-  result.statistics = analyseFactorised(svd, r, parameterNames(problem));
+  result.statistics = analyseFactorised(svd, r, parameterNames(problem), options.rankTolerance,
+                                        options.identifiabilityThreshold);
   return result;
 }
 
@@ -361,7 +481,20 @@ FitResult solve(const ResidualProblem& problem, const Eigen::VectorXd& start,
     problem.residuals(result.parameters, r);
     Eigen::MatrixXd jacobian;
     problem.jacobian(result.parameters, jacobian);
-    result.statistics = analyse(jacobian, r, parameterNames(problem), options.rankTolerance);
+    ScaledSvd svd(std::move(jacobian), options.rankTolerance);
+    // The same policy as the linear method: whatever Levenberg-Marquardt's path left along the
+    // directions the data cannot see is taken back to the start values (scaled units), which
+    // changes the residuals only to second order.
+    if (svd.rank < svd.v.cols()) {
+      const Eigen::MatrixXd nullBasis = svd.v.rightCols(svd.v.cols() - svd.rank);
+      const Eigen::VectorXd change = (result.parameters - start).cwiseQuotient(svd.columnScale);
+      result.parameters -=
+          svd.columnScale.cwiseProduct(nullBasis * (nullBasis.transpose() * change));
+      problem.residuals(result.parameters, r);
+    }
+    result.statistics = analyseFactorised(svd, r, parameterNames(problem), options.rankTolerance,
+                                          options.identifiabilityThreshold);
+    result.linearisedAt = result.parameters;
   } else {
     result = solveLinear(problem, start, options);
   }

@@ -32,6 +32,11 @@ std::string powerUnit(const std::string& unit, int power) {
   return unit + "/mm^" + std::to_string(power);
 }
 
+// Node count of one curve of a table basis (a bidirectional table has two curves).
+int curveNodes(const IdentifySpec& spec) {
+  return static_cast<int>(spec.positions.size());
+}
+
 double binomial(int n, int k) {
   double result = 1.0;
   for (int i = 1; i <= k; ++i) result = result * (n - k + i) / i;
@@ -78,7 +83,8 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
       lp.start = template_.locationRad[static_cast<std::size_t>(lp.index)];
       base.locationRad[static_cast<std::size_t>(lp.index)] = 0.0;
       locations_.push_back(lp);
-      info_.push_back({name, keyPath, units.angle, 1.0 / units.angleToRad, false});
+      info_.push_back(
+          {name, keyPath, units.angle, 1.0 / units.angleToRad, false, ParameterInfo::Kind::Angle});
       continue;
     }
     auto motion = motionByName.find(name);
@@ -93,21 +99,23 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
     const bool angle = motion->second % 6 >= 3;
     const std::string unit = angle ? units.angle : units.length;
     const double toDisplay = angle ? 1.0 / units.angleToRad : 1.0 / units.lengthToMm;
+    const auto kind = angle ? ParameterInfo::Kind::Angle : ParameterInfo::Kind::Length;
     switch (spec.basis) {
       case IdentifySpec::Basis::Constant:
         component.count = 1;
-        info_.push_back({name, keyPath, unit, toDisplay, false});
+        info_.push_back({name, keyPath, unit, toDisplay, false, kind});
         break;
       case IdentifySpec::Basis::Polynomial: {
         component.count = spec.degree + 1 - spec.minDegree;
         for (int k = spec.minDegree; k <= spec.degree; ++k) {
-          info_.push_back(
-              {name + " c" + std::to_string(k), keyPath, powerUnit(unit, k), toDisplay, false});
+          info_.push_back({name + " c" + std::to_string(k), keyPath, powerUnit(unit, k), toDisplay,
+                           false, kind, k});
         }
         break;
       }
       case IdentifySpec::Basis::Table: {
-        component.count = static_cast<int>(spec.positions.size());
+        const std::size_t nodes = spec.positions.size();
+        component.count = static_cast<int>(spec.bidirectional ? 2 * nodes : nodes);
         for (std::size_t node = 0; node < spec.positions.size(); ++node) {
           // One basis function per node: the table through the unit vector, interpolated exactly
           // as the model will interpolate the identified table.
@@ -121,9 +129,15 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
           } catch (const model::ModelError& e) {
             throw ConfigError(file, identifyPath, e.what());
           }
-          std::ostringstream label;
-          label << name << "[" << spec.positions[node] << "]";
-          info_.push_back({label.str(), keyPath, unit, toDisplay, false});
+        }
+        // Bidirectional tables: the positive-direction nodes ("EXX+[85]"), then the negative ones.
+        for (const char* sign : spec.bidirectional ? std::vector<const char*>{"+", "-"}
+                                                   : std::vector<const char*>{""}) {
+          for (double position : spec.positions) {
+            std::ostringstream label;
+            label << name << sign << "[" << position << "]";
+            info_.push_back({label.str(), keyPath, unit, toDisplay, false, kind});
+          }
         }
         break;
       }
@@ -142,8 +156,9 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
   }
   parameterCount_ = parameter;
   for (const Component& component : components_) {
-    if (component.spec.smoothness > 0.0 && component.count >= 3) {
-      priorRows_ += component.count - 2;
+    const int nodes = curveNodes(component.spec);
+    if (component.spec.smoothness > 0.0 && nodes >= 3) {
+      priorRows_ += (nodes - 2) * (component.spec.bidirectional ? 2 : 1);
     }
   }
 
@@ -179,27 +194,48 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
   basis_.resize(measurements.points.size() * static_cast<std::size_t>(basisWidth));
   for (std::size_t i = 0; i < measurements.points.size(); ++i) {
     const Measurement& m = measurements.points[i];
-    Point point;
-    point.qMm = m.qMm;
-    point.toolMm = measurements.hasTool ? m.toolMm : template_.toolMm;
-    point.nominalMm = m.qMm + point.toolMm - template_.workpieceMm;
+    Point point = makePoint(m.qMm, measurements.hasTool ? m.toolMm : template_.toolMm, m.directions,
+                            basis_.data() + i * basisWidth_);
     point.measuredMm = m.errorMm;
     point.measuredAngleRad = m.angularErrorRad;
     point.sqrtWeight = std::sqrt(m.weight);
     point.weight = m.weight;
-    model::evaluateMotion(*model_, m.qMm, model::Directions{}, point.baseMotion);
-    double* row = basis_.data() + i * static_cast<std::size_t>(basisWidth);
-    int column = 0;
-    for (const Component& component : components_) {
-      double q = m.qMm[component.axis];
-      if (const auto& travel = template_.travelMm[static_cast<std::size_t>(component.axis)]) {
-        q = std::clamp(q, (*travel)[0], (*travel)[1]);
-      }
-      evaluateBasis(component, q, row + column);
-      column += component.count;
-    }
     points_.push_back(point);
+    auto group = std::find_if(toolGroups_.begin(), toolGroups_.end(),
+                              [&](const ToolGroup& g) { return g.toolMm == point.toolMm; });
+    if (group == toolGroups_.end()) {
+      toolGroups_.push_back({point.toolMm, {}, {}, {}});
+      group = toolGroups_.end() - 1;
+    }
+    group->points.push_back(static_cast<int>(i));
+    group->qMm.push_back(point.qMm);
+    group->directions.push_back(point.directions);
   }
+}
+
+MachineIdentification::Point MachineIdentification::makePoint(const Eigen::Vector3d& qMm,
+                                                              const Eigen::Vector3d& toolMm,
+                                                              const model::Directions& directions,
+                                                              double* basisRow) const {
+  Point point;
+  point.qMm = qMm;
+  point.toolMm = toolMm;
+  point.directions = directions;
+  point.nominalMm = qMm + toolMm - template_.workpieceMm;
+  point.measuredMm.setZero();
+  point.measuredAngleRad.setZero();
+  model::evaluateMotion(*model_, qMm, directions, point.baseMotion);
+  int column = 0;
+  for (const Component& component : components_) {
+    double q = qMm[component.axis];
+    if (const auto& travel = template_.travelMm[static_cast<std::size_t>(component.axis)]) {
+      q = std::clamp(q, (*travel)[0], (*travel)[1]);
+    }
+    evaluateBasis(component, q, directions[static_cast<std::size_t>(component.axis)],
+                  basisRow + column);
+    column += component.count;
+  }
+  return point;
 }
 
 IdentifySpec MachineIdentification::parseIdentify(const nlohmann::json& block,
@@ -268,8 +304,14 @@ IdentifySpec MachineIdentification::parseIdentify(const nlohmann::json& block,
     return spec;
   }
   if (basis == "table") {
-    allowOnly({"basis", "positions", "interpolation", "smoothness"});
+    allowOnly({"basis", "positions", "interpolation", "smoothness", "bidirectional"});
     spec.basis = IdentifySpec::Basis::Table;
+    if (block.contains("bidirectional")) {
+      if (!block.at("bidirectional").is_boolean()) {
+        throw ConfigError(file, path + ".bidirectional", "expected true or false");
+      }
+      spec.bidirectional = block.at("bidirectional").get<bool>();
+    }
     if (!block.contains("positions") || !block.at("positions").is_array() ||
         block.at("positions").size() < 2) {
       throw ConfigError(file, path + ".positions",
@@ -341,18 +383,26 @@ std::vector<double> MachineIdentification::startValues(const Component& componen
       return values;
     }
   } else if (const auto* table = std::get_if<model::TableSpec>(&start)) {
-    if (spec.basis == IdentifySpec::Basis::Table && table->positionsMm == spec.positions &&
-        table->valuesNegative.empty()) {
-      return table->values;
+    if (spec.basis == IdentifySpec::Basis::Table && table->positionsMm == spec.positions) {
+      if (!spec.bidirectional && table->valuesNegative.empty()) return table->values;
+      if (spec.bidirectional) {
+        // A one-curve start serves both directions.
+        const std::vector<double>& negative =
+            table->valuesNegative.empty() ? table->values : table->valuesNegative;
+        std::copy(table->values.begin(), table->values.end(), values.begin());
+        std::copy(negative.begin(), negative.end(), values.begin() + table->values.size());
+        return values;
+      }
     }
   }
   throw ConfigError(file, path,
                     "the start value must be a constant or have the form of the identify basis "
-                    "(same degree or same table positions)");
+                    "(same degree or same table positions; values_negative only with "
+                    "\"bidirectional\": true)");
 }
 
 void MachineIdentification::evaluateBasis(const Component& component, double qMm,
-                                          double* out) const {
+                                          model::Direction direction, double* out) const {
   const IdentifySpec& spec = component.spec;
   switch (spec.basis) {
     case IdentifySpec::Basis::Constant:
@@ -367,11 +417,24 @@ void MachineIdentification::evaluateBasis(const Component& component, double qMm
       }
       return;
     }
-    case IdentifySpec::Basis::Table:
-      for (int j = 0; j < component.count; ++j) {
-        out[j] = component.nodeBasis[static_cast<std::size_t>(j)].value(qMm);
+    case IdentifySpec::Basis::Table: {
+      const int nodes = curveNodes(spec);
+      // The model's rule for a bidirectional table: the curve of the direction of travel, the
+      // mean of both where the direction is unknown.
+      double positive = 1.0, negative = 0.0;
+      if (spec.bidirectional) {
+        positive = direction == model::Direction::Positive   ? 1.0
+                   : direction == model::Direction::Negative ? 0.0
+                                                             : 0.5;
+        negative = 1.0 - positive;
+      }
+      for (int j = 0; j < nodes; ++j) {
+        const double value = component.nodeBasis[static_cast<std::size_t>(j)].value(qMm);
+        out[j] = positive * value;
+        if (spec.bidirectional) out[nodes + j] = negative * value;
       }
       return;
+    }
   }
 }
 
@@ -390,11 +453,9 @@ int MachineIdentification::residualsPerObservation() const {
   return hasAngles_ ? 6 : 3;
 }
 
-void MachineIdentification::motionValues(const double* p, int i,
+void MachineIdentification::motionValues(const double* p, const Point& point, const double* basis,
                                          model::MotionValues& values) const {
-  const Point& point = points_[static_cast<std::size_t>(i)];
   values = point.baseMotion;
-  const double* basis = basis_.data() + static_cast<std::size_t>(i) * basisWidth_;
   int column = 0;
   for (const Component& component : components_) {
     double sum = 0.0;
@@ -426,15 +487,14 @@ void MachineIdentification::motionValues(const double* p, int i,
   }
 }
 
-void MachineIdentification::predict(const double* p, int i, const model::MotionValues& values,
+void MachineIdentification::predict(const double* frame, const Point& point,
+                                    const model::MotionValues& values, int rows,
                                     double* out) const {
-  const Point& point = points_[static_cast<std::size_t>(i)];
   const model::PointError error =
       model::composeError(*model_, *workspace_, point.qMm, values, point.toolMm);
-  const double* frame = frameFirst_ >= 0 ? p + frameFirst_ : nullptr;
   const Eigen::Vector3d position = predictedPositionError(frame, point.nominalMm, error.errorMm);
   for (int t = 0; t < 3; ++t) out[t] = position[t];
-  if (hasAngles_) {
+  if (rows > 3) {
     const Eigen::Vector3d angle = predictedAngularError(frame, error.angularErrorRad);
     for (int t = 0; t < 3; ++t) out[3 + t] = angle[t];
   }
@@ -443,8 +503,9 @@ void MachineIdentification::predict(const double* p, int i, const model::MotionV
 void MachineIdentification::observationResiduals(const double* p, int i, double* r) const {
   const Point& point = points_[static_cast<std::size_t>(i)];
   model::MotionValues values;
-  motionValues(p, i, values);
-  predict(p, i, values, r);
+  motionValues(p, point, basis_.data() + static_cast<std::size_t>(i) * basisWidth_, values);
+  const double* frame = frameFirst_ >= 0 ? p + frameFirst_ : nullptr;
+  predict(frame, point, values, residualsPerObservation(), r);
   for (int t = 0; t < 3; ++t) r[t] = (r[t] - point.measuredMm[t]) * point.sqrtWeight;
   if (hasAngles_) {
     for (int t = 0; t < 3; ++t) {
@@ -457,11 +518,23 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
   const Point& point = points_[static_cast<std::size_t>(i)];
   const int rows = residualsPerObservation();
   const int n = parameterCount_;
+  jacobianAt(p, point, basis_.data() + static_cast<std::size_t>(i) * basisWidth_, rows, true,
+             jacobian);
+  for (int row = 0; row < rows; ++row) {
+    const double scale = point.sqrtWeight * (row >= 3 ? options_.angleScaleMm : 1.0);
+    for (int j = 0; j < n; ++j) jacobian[row * n + j] *= scale;
+  }
+}
+
+void MachineIdentification::jacobianAt(const double* p, const Point& point, const double* basis,
+                                       int rows, bool instrument, double* jacobian) const {
+  const int n = parameterCount_;
   std::fill(jacobian, jacobian + rows * n, 0.0);
   model::MotionValues values;
-  motionValues(p, i, values);
+  motionValues(p, point, basis, values);
+  const double* frame = instrument && frameFirst_ >= 0 ? p + frameFirst_ : nullptr;
   std::array<double, 6> centre{}, plus{}, minus{};
-  predict(p, i, values, centre.data());
+  predict(frame, point, values, rows, centre.data());
 
   // Sensitivity of the predicted rows to each needed motion value.
   std::array<std::array<double, 6>, 18> sensitivity{};
@@ -471,9 +544,9 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
     auto& column = sensitivity[static_cast<std::size_t>(c)];
     if (rotation) {
       values[static_cast<std::size_t>(c)] = saved + kRotationStepRad;
-      predict(p, i, values, plus.data());
+      predict(frame, point, values, rows, plus.data());
       values[static_cast<std::size_t>(c)] = saved - kRotationStepRad;
-      predict(p, i, values, minus.data());
+      predict(frame, point, values, rows, minus.data());
       for (int row = 0; row < rows; ++row) {
         column[static_cast<std::size_t>(row)] =
             (plus[static_cast<std::size_t>(row)] - minus[static_cast<std::size_t>(row)]) /
@@ -482,7 +555,7 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
     } else {
       // The position is affine in a translation: a forward difference is exact.
       values[static_cast<std::size_t>(c)] = saved + kTranslationStepMm;
-      predict(p, i, values, plus.data());
+      predict(frame, point, values, rows, plus.data());
       for (int row = 0; row < rows; ++row) {
         column[static_cast<std::size_t>(row)] =
             (plus[static_cast<std::size_t>(row)] - centre[static_cast<std::size_t>(row)]) /
@@ -492,7 +565,6 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
     values[static_cast<std::size_t>(c)] = saved;
   }
 
-  const double* basis = basis_.data() + static_cast<std::size_t>(i) * basisWidth_;
   int basisColumn = 0;
   for (const Component& component : components_) {
     const auto& column = sensitivity[static_cast<std::size_t>(component.motion)];
@@ -533,14 +605,14 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
       jacobian[row * n + location.parameter] = sum;
     }
   }
-  if (frameFirst_ >= 0) {
-    std::array<double, 6> frame{};
-    for (int f = 0; f < 6; ++f) frame[static_cast<std::size_t>(f)] = p[frameFirst_ + f];
+  if (frame != nullptr) {
+    std::array<double, 6> frameValues{};
+    for (int f = 0; f < 6; ++f) frameValues[static_cast<std::size_t>(f)] = frame[f];
     const model::PointError error =
         model::composeError(*model_, *workspace_, point.qMm, values, point.toolMm);
     for (int f = 0; f < 6; ++f) {
       const double step = f < 3 ? kFrameStep : kTranslationStepMm;
-      std::array<double, 6> up = frame, down = frame;
+      std::array<double, 6> up = frameValues, down = frameValues;
       up[static_cast<std::size_t>(f)] += step;
       down[static_cast<std::size_t>(f)] -= step;
       const Eigen::Vector3d dPosition =
@@ -548,7 +620,7 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
            predictedPositionError(down.data(), point.nominalMm, error.errorMm)) /
           (2.0 * step);
       for (int t = 0; t < 3; ++t) jacobian[t * n + frameFirst_ + f] = dPosition[t];
-      if (hasAngles_) {
+      if (rows > 3) {
         const Eigen::Vector3d dAngle = (predictedAngularError(up.data(), error.angularErrorRad) -
                                         predictedAngularError(down.data(), error.angularErrorRad)) /
                                        (2.0 * step);
@@ -556,10 +628,73 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
       }
     }
   }
-  for (int row = 0; row < rows; ++row) {
-    const double scale = point.sqrtWeight * (row >= 3 ? options_.angleScaleMm : 1.0);
-    for (int j = 0; j < n; ++j) jacobian[row * n + j] *= scale;
+}
+
+void MachineIdentification::prediction(const Eigen::VectorXd& p, const PredictionPoint& at,
+                                       Eigen::Vector3d& errorMm,
+                                       Eigen::Ref<Eigen::MatrixXd> jacobian) const {
+  std::vector<double> basis(basisWidth_);
+  const Point point =
+      makePoint(at.qMm, at.toolMm.value_or(template_.toolMm), at.directions, basis.data());
+  model::MotionValues values;
+  motionValues(p.data(), point, basis.data(), values);
+  predict(nullptr, point, values, 3, errorMm.data());
+  Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor> rows(3, parameterCount_);
+  jacobianAt(p.data(), point, basis.data(), 3, false, rows.data());
+  jacobian = rows;
+}
+
+std::vector<Curve> MachineIdentification::curves() const {
+  std::vector<Curve> out;
+  for (const Component& component : components_) {
+    const ParameterInfo& info = info_[static_cast<std::size_t>(component.first)];
+    const IdentifySpec& spec = component.spec;
+    std::vector<double> positions;
+    if (spec.basis == IdentifySpec::Basis::Table) {
+      positions = spec.positions;
+    } else if (const auto& travel = template_.travelMm[static_cast<std::size_t>(component.axis)]) {
+      for (int k = 0; k <= 4; ++k) {
+        positions.push_back((*travel)[0] + ((*travel)[1] - (*travel)[0]) * k / 4.0);
+      }
+    } else {
+      // Without a travel the function's own reference is all there is: where it is zero, if
+      // anywhere, else the origin.
+      positions.push_back(spec.hasZeroAt ? spec.zeroAtMm : 0.0);
+    }
+    Curve base;
+    base.component = model::motionName(component.motion);
+    base.unit = info.unit;
+    base.toDisplay = info.toDisplay;
+    base.angle = info.kind == ParameterInfo::Kind::Angle;
+    base.positionsMm = positions;
+    std::vector<model::Direction> directions{model::Direction::Unknown};
+    if (spec.bidirectional) directions = {model::Direction::Positive, model::Direction::Negative};
+    std::vector<Curve> perDirection;
+    for (model::Direction direction : directions) {
+      Curve curve = base;
+      if (spec.bidirectional) curve.direction = direction == model::Direction::Positive ? "+" : "-";
+      std::vector<double> basis(static_cast<std::size_t>(component.count));
+      for (double q : positions) {
+        evaluateBasis(component, q, direction, basis.data());
+        Eigen::RowVectorXd g = Eigen::RowVectorXd::Zero(parameterCount_);
+        for (int j = 0; j < component.count; ++j) {
+          g(component.first + j) = basis[static_cast<std::size_t>(j)];
+        }
+        curve.gradients.push_back(std::move(g));
+      }
+      perDirection.push_back(std::move(curve));
+    }
+    if (spec.bidirectional) {
+      Curve reversal = base;
+      reversal.direction = "reversal";
+      for (std::size_t k = 0; k < positions.size(); ++k) {
+        reversal.gradients.push_back(perDirection[1].gradients[k] - perDirection[0].gradients[k]);
+      }
+      perDirection.push_back(std::move(reversal));
+    }
+    for (Curve& curve : perDirection) out.push_back(std::move(curve));
   }
+  return out;
 }
 
 int MachineIdentification::priorRowCount() const {
@@ -569,11 +704,14 @@ int MachineIdentification::priorRowCount() const {
 void MachineIdentification::priorResiduals(const double* p, double* r) const {
   int row = 0;
   for (const Component& component : components_) {
-    if (!(component.spec.smoothness > 0.0) || component.count < 3) continue;
+    const int nodes = curveNodes(component.spec);
+    if (!(component.spec.smoothness > 0.0) || nodes < 3) continue;
     const double weight = std::sqrt(component.spec.smoothness);
-    const double* v = p + component.first;
-    for (int j = 1; j + 1 < component.count; ++j) {
-      r[row++] = weight * (v[j - 1] - 2.0 * v[j] + v[j + 1]);
+    for (int curve = 0; curve < component.count / nodes; ++curve) {
+      const double* v = p + component.first + curve * nodes;
+      for (int j = 1; j + 1 < nodes; ++j) {
+        r[row++] = weight * (v[j - 1] - 2.0 * v[j] + v[j + 1]);
+      }
     }
   }
 }
@@ -583,13 +721,17 @@ void MachineIdentification::priorJacobian(const double*, double* jacobian) const
   std::fill(jacobian, jacobian + priorRows_ * n, 0.0);
   int row = 0;
   for (const Component& component : components_) {
-    if (!(component.spec.smoothness > 0.0) || component.count < 3) continue;
+    const int nodes = curveNodes(component.spec);
+    if (!(component.spec.smoothness > 0.0) || nodes < 3) continue;
     const double weight = std::sqrt(component.spec.smoothness);
-    for (int j = 1; j + 1 < component.count; ++j) {
-      jacobian[row * n + component.first + j - 1] = weight;
-      jacobian[row * n + component.first + j] = -2.0 * weight;
-      jacobian[row * n + component.first + j + 1] = weight;
-      ++row;
+    for (int curve = 0; curve < component.count / nodes; ++curve) {
+      const int first = component.first + curve * nodes;
+      for (int j = 1; j + 1 < nodes; ++j) {
+        jacobian[row * n + first + j - 1] = weight;
+        jacobian[row * n + first + j] = -2.0 * weight;
+        jacobian[row * n + first + j + 1] = weight;
+        ++row;
+      }
     }
   }
 }
@@ -624,9 +766,11 @@ model::MachineModelSpec MachineIdentification::identifiedSpec(const Eigen::Vecto
         break;
       }
       case IdentifySpec::Basis::Table: {
+        const int nodes = curveNodes(component.spec);
         model::TableSpec table;
         table.positionsMm = component.spec.positions;
-        table.values.assign(v, v + component.count);
+        table.values.assign(v, v + nodes);
+        if (component.spec.bidirectional) table.valuesNegative.assign(v + nodes, v + 2 * nodes);
         table.interpolation = component.spec.interpolation;
         function = table;
         break;

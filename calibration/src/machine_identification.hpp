@@ -24,6 +24,8 @@ struct IdentifySpec {
   std::vector<double> positions;
   model::Interpolation interpolation = model::Interpolation::Linear;
   double smoothness = 0.0;
+  /// Tables only: identify `values` (positive direction) and `values_negative` in one fit.
+  bool bidirectional = false;
 };
 
 class MachineIdentification final : public IdentificationProblem {
@@ -36,6 +38,8 @@ class MachineIdentification final : public IdentificationProblem {
   int residualsPerObservation() const override;
   void observationResiduals(const double* p, int i, double* r) const override;
   void observationJacobian(const double* p, int i, double* jacobian) const override;
+  /// The whole sensitivity matrix on the model's batch path (machine_jacobian.cpp).
+  void jacobian(const Eigen::VectorXd& p, Eigen::MatrixXd& jacobian) const override;
   int priorRowCount() const override;
   void priorResiduals(const double* p, double* r) const override;
   void priorJacobian(const double* p, double* jacobian) const override;
@@ -45,6 +49,9 @@ class MachineIdentification final : public IdentificationProblem {
   Eigen::VectorXd startVector() const override;
   nlohmann::json modelJson(const Eigen::VectorXd& p) const override;
   bool nearlyLinear() const override { return true; }
+  void prediction(const Eigen::VectorXd& p, const PredictionPoint& at, Eigen::Vector3d& errorMm,
+                  Eigen::Ref<Eigen::MatrixXd> jacobian) const override;
+  std::vector<Curve> curves() const override;
 
   model::MachineModelSpec identifiedSpec(const Eigen::VectorXd& p) const;
 
@@ -65,6 +72,7 @@ class MachineIdentification final : public IdentificationProblem {
   };
   struct Point {
     Eigen::Vector3d qMm, toolMm, nominalMm, measuredMm, measuredAngleRad;
+    model::Directions directions{};
     model::MotionValues baseMotion{};
     double sqrtWeight = 1.0;
     double weight = 1.0;
@@ -75,9 +83,22 @@ class MachineIdentification final : public IdentificationProblem {
   static std::vector<double> startValues(const Component& component,
                                          const model::ErrorFunctionSpec& start,
                                          const std::string& file, const std::string& path);
-  void evaluateBasis(const Component& component, double qMm, double* out) const;
-  void motionValues(const double* p, int i, model::MotionValues& values) const;
-  void predict(const double* p, int i, const model::MotionValues& values, double* out) const;
+  /// Basis values of a component at its axis position (clamped to the travel) approached in
+  /// `direction` (bidirectional tables: the positive or the negative half, or half of each).
+  void evaluateBasis(const Component& component, double qMm, model::Direction direction,
+                     double* out) const;
+  Point makePoint(const Eigen::Vector3d& qMm, const Eigen::Vector3d& toolMm,
+                  const model::Directions& directions, double* basisRow) const;
+  void motionValues(const double* p, const Point& point, const double* basis,
+                    model::MotionValues& values) const;
+  /// Predicted rows (3 position rows, then 3 angle rows when `rows` is 6), seen through the
+  /// instrument frame when `frame` is not null.
+  void predict(const double* frame, const Point& point, const model::MotionValues& values, int rows,
+               double* out) const;
+  /// Unweighted rows x n Jacobian of predict() at point; with `instrument` the frame parameters
+  /// take part, otherwise their columns are zero (the machine's own error).
+  void jacobianAt(const double* p, const Point& point, const double* basis, int rows,
+                  bool instrument, double* jacobian) const;
 
   config::ModelDocument document_;
   model::MachineModelSpec template_;
@@ -97,6 +118,14 @@ class MachineIdentification final : public IdentificationProblem {
   std::vector<Point> points_;
   std::vector<double> basis_;
   std::size_t basisWidth_ = 0;
+  /// The points grouped by tool offset, for evaluations many points at a time.
+  struct ToolGroup {
+    Eigen::Vector3d toolMm;
+    std::vector<int> points;
+    std::vector<Eigen::Vector3d> qMm;
+    std::vector<model::Directions> directions;
+  };
+  std::vector<ToolGroup> toolGroups_;
 };
 
 }  // namespace volcomp::calibration::detail

@@ -17,14 +17,15 @@ struct ScaledSvd {
   ScaledSvd(Eigen::MatrixXd jacobian, double rankTolerance);
   /// U_k^T r.
   Eigen::VectorXd projectResiduals(const Eigen::VectorXd& residuals) const;
-  /// Minimum-norm (scaled) Gauss-Newton step dp = -D V_k S_k^-1 U_k^T r.
-  Eigen::VectorXd step(const Eigen::VectorXd& residuals) const;
+  /// Minimum-norm (scaled) Gauss-Newton step dp = -D V_k S_k^-1 U_k^T r from U_k^T r.
+  Eigen::VectorXd step(const Eigen::VectorXd& projectedResiduals) const;
 
   Eigen::VectorXd columnScale;
   Eigen::VectorXd singularValues;
   Eigen::MatrixXd uSmall;
   Eigen::MatrixXd v;
-  /// Householder factors of the QR of Js (tall case) and their coefficients.
+  /// Householder factors of the QR of Js (tall case: Eigen's HouseholderQR in place, LAPACK
+  /// layout) and their coefficients.
   Eigen::MatrixXd factors;
   Eigen::VectorXd householderCoefficients;
   bool tall = true;
@@ -32,6 +33,7 @@ struct ScaledSvd {
 };
 
 FitStatistics analyseFactorised(const ScaledSvd& svd, const Eigen::VectorXd& residuals,
-                                const std::vector<std::string>& names);
+                                const std::vector<std::string>& names, double rankTolerance,
+                                double identifiabilityThreshold);
 
 }  // namespace volcomp::calibration

@@ -93,7 +93,7 @@ model::DhLinkSpec readLink(const JsonReader& node, const Context& ctx) {
 }  // namespace
 
 void parseChainDocument(const JsonReader& root, const ParseOptions& options, ModelDocument& doc) {
-  root.allowOnly({"format", "name", "description", "chain"});
+  root.allowOnly({"format", "name", "description", "chain", "calibration"});
   const Context ctx{options, doc};
   model::DhChainSpec spec;
   spec.name = root.stringOr("name", "");
@@ -106,6 +106,9 @@ void parseChainDocument(const JsonReader& root, const ParseOptions& options, Mod
   }
   for (const JsonReader& link : chain.at("links").elements(1)) {
     spec.links.push_back(readLink(link, ctx));
+  }
+  if (const auto calibration = root.find("calibration")) {
+    doc.calibration = readCalibrationRecord(*calibration);
   }
   // The chain block states its own units (degrees, mm), whatever error_units would say.
   doc.units.length = "mm";

@@ -275,7 +275,7 @@ std::vector<double> readIncreasing(const JsonReader& node, std::size_t minCount)
 
 void parseMachineDocument(const JsonReader& root, const ParseOptions& options, ModelDocument& doc) {
   root.allowOnly({"format", "name", "description", "topology", "travel", "tool", "workpiece",
-                  "error_units", "components", "grids"});
+                  "error_units", "components", "grids", "calibration"});
   const Context ctx{options, doc};
   model::MachineModelSpec spec;
   spec.name = root.stringOr("name", "");
@@ -289,6 +289,9 @@ void parseMachineDocument(const JsonReader& root, const ParseOptions& options, M
   if (const auto components = root.find("components")) readComponents(*components, spec, ctx);
   if (const auto grids = root.find("grids")) {
     for (const JsonReader& grid : grids->elements()) spec.grids.push_back(readGrid(grid, ctx));
+  }
+  if (const auto calibration = root.find("calibration")) {
+    doc.calibration = readCalibrationRecord(*calibration);
   }
   doc.spec = std::move(spec);
 }

@@ -2,9 +2,12 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
+#include <sstream>
 #include <utility>
 #include <variant>
 
+#include "volcomp/config/calibration_record.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/model_file.hpp"
 
@@ -15,22 +18,52 @@ std::chrono::nanoseconds fromMs(double ms) noexcept {
   return std::chrono::nanoseconds(static_cast<std::int64_t>(std::llround(ms * 1e6)));
 }
 
+std::string triple(const Eigen::Vector3d& v) {
+  std::ostringstream out;
+  out << '(' << v.x() + 0.0 << ", " << v.y() + 0.0 << ", " << v.z() + 0.0 << ')';
+  return out.str();
+}
+
+// The daemon compensates for the model's own tool: one that the calibration never measured
+// (further than the tolerance outside the measured tools' hull) extrapolates the lever arms.
+std::optional<std::string> farToolWarning(const config::ModelDocument& document,
+                                          const Eigen::Vector3d& toolMm, const std::string& path) {
+  if (!document.calibration) return std::nullopt;
+  const std::optional<double> distance = config::toolDistanceMm(*document.calibration, toolMm);
+  if (!distance || *distance <= config::kCalibratedToolToleranceMm) return std::nullopt;
+  std::ostringstream out;
+  out << "model " << path << ": its tool " << triple(toolMm) << " mm is "
+      << std::round(*distance * 10.0) / 10.0
+      << " mm outside the tools the model was calibrated with, ";
+  for (std::size_t i = 0; i < document.calibration->toolsMm.size(); ++i) {
+    out << (i > 0 ? "; " : "") << triple(document.calibration->toolsMm[i]);
+  }
+  out << " mm: errors that act through the tool's lever arms are extrapolated";
+  return out.str();
+}
+
 }  // namespace
 
 LoadedConfiguration loadConfiguration(const std::string& configPath) {
   LoadedConfiguration loaded;
   loaded.config = config::loadDaemonConfig(configPath);
-  loaded.model = loadCompensationModel(loaded.config.modelPath);
+  loaded.model = loadCompensationModel(loaded.config.modelPath, &loaded.warnings);
   return loaded;
 }
 
-std::shared_ptr<loop::CompensationModel> loadCompensationModel(const std::string& path) {
+std::shared_ptr<loop::CompensationModel> loadCompensationModel(const std::string& path,
+                                                               std::vector<std::string>* warnings) {
   config::ModelDocument document = config::loadModelFile(path);
   auto* spec = std::get_if<model::MachineModelSpec>(&document.spec);
   if (spec == nullptr) {
     throw config::ConfigError(path, "chain",
                               "the daemon compensates 3-axis machine models; a D-H chain file "
                               "cannot be used for live compensation");
+  }
+  if (warnings != nullptr) {
+    if (auto warning = farToolWarning(document, spec->toolMm, path)) {
+      warnings->push_back(std::move(*warning));
+    }
   }
   std::string name = spec->name.empty() ? path : spec->name;
   return std::make_shared<loop::MachineModelCompensation>(model::MachineModel(std::move(*spec)),

@@ -37,6 +37,7 @@ Daemon::Daemon(asio::io_context& io, loop::ControllerPort& port, WaitableClock& 
       clock_(clock),
       notifier_(notifier),
       config_(std::move(initial.config)),
+      startWarnings_(std::move(initial.warnings)),
       loop_(port, clock, std::move(initial.model), loopSettingsFrom(config_)),
       scheduler_(clock, loopSettingsFrom(config_).period, [this] { return cycle(); }),
       reloadLoader_(std::move(reloadLoader)),
@@ -54,6 +55,7 @@ void Daemon::start() {
       "starting: model '{}', transport {}, cycle {} ms, position semantics {}",
       loop_.model().name(), config::transportType(config_.transport), config_.cyclePeriodMs,
       config_.positionSemantics == loop::PositionSemantics::Actual ? "actual" : "commanded");
+  for (const std::string& warning : startWarnings_) spdlog::warn("{}", warning);
   scheduler_.start();
 }
 
@@ -115,6 +117,7 @@ void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::stri
     loop_.setModel(loaded->model);
     spdlog::set_level(levelFromName(next.logLevel));
     spdlog::info("reloaded: model '{}' from {}", loaded->model->name(), next.modelPath);
+    for (const std::string& warning : loaded->warnings) spdlog::warn("{}", warning);
     // Keep what only a restart changes, so that later messages compare against what runs.
     next.cyclePeriodMs = config_.cyclePeriodMs;
     next.transport = config_.transport;

@@ -7,55 +7,16 @@
 #include <random>
 #include <set>
 
+#include "planar_synthetic.hpp"
 #include "volcomp/calibration/planar2dof.hpp"
 
 namespace volcomp::calibration {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-// Seed 003 table 2, "optimized values" (lengths mm, phi rad); eb = ehb = 0 by the paper's choice.
-Planar2DofParameters paperOptimised() {
-  return {0.30, 0.10, 1.53, 0.13, 0.0, 0.0, -0.184 * kDeg, -2.1e-3, 0.7e-3};
-}
-// Seed 003 table 2, "starting values".
-Planar2DofParameters paperStart() {
-  return {0.1, 0.1, 1.0, 0.1, 0.0, 0.0, 0.057 * kDeg, 3e-3, 3e-3};
-}
-
-// 25 points on a 40 mm x 40 mm square (seed 003 fig. 5), TCP about 200 mm above the guide, LGP
-// readings = R(phi) r + origin (so that g_i - g_ref = R(phi)(r_i - r_ref) + e_K, see
-// planar2dof.hpp) with Gaussian noise of `noiseMm` per coordinate. The reference reading's random
-// error is what (exK, eyK) stand for in the paper, so it is off by exactly -(exK, eyK) and has no
-// other noise. Note that the paper's sum F = sum_i |dL_i|^2 includes the reference point, whose
-// residual is (exK, eyK) itself: (exK, eyK) is one more realisation of the reading noise, estimated
-// with the shrinkage of a least-squares fit (noise-free data are reproduced exactly only when it is
-// zero).
-std::vector<Planar2DofSample> simulate(const Planar2DofParameters& truth, double noiseMm,
-                                       unsigned seed) {
-  const Planar2DofGeometry geometry;
-  std::mt19937 generator(seed);
-  std::normal_distribution<double> noise(0.0, noiseMm);
-  const double c = std::cos(truth[phi]), s = std::sin(truth[phi]);
-  std::vector<Planar2DofSample> samples;
-  for (int row = 0; row < 5; ++row) {
-    for (int column = 0; column < 5; ++column) {
-      const bool reference = row == 0 && column == 0;
-      const Eigen::Vector2d tcp(-20.0 + 10.0 * column, 180.0 + 10.0 * row);
-      const Eigen::Vector2d readings = planar2DofInverse(geometry, truth, tcp);
-      Planar2DofSample sample;
-      sample.aMm = readings.x();
-      sample.bMm = readings.y();
-      sample.lgpMm = Eigen::Vector2d(c * tcp.x() + s * tcp.y(), -s * tcp.x() + c * tcp.y()) +
-                     Eigen::Vector2d(12.0, -7.0) +
-                     (reference ? Eigen::Vector2d::Zero()
-                                : Eigen::Vector2d(noise(generator), noise(generator)));
-      samples.push_back(sample);
-    }
-  }
-  samples[0].lgpMm -= Eigen::Vector2d(truth[exK], truth[eyK]);
-  return samples;
-}
+using testing::kDeg;
+using testing::paperOptimised;
+using testing::paperStart;
+using testing::simulatePlanar;
 
 TEST(Planar2Dof, ForwardInvertsInverse) {
   const Planar2DofGeometry geometry;
@@ -77,7 +38,7 @@ TEST(Planar2Dof, NominalForwardMatchesSeedEquationOne) {
 TEST(Planar2Dof, NoiseFreeDataRecoversTableTwoExactly) {
   Planar2DofParameters truth = paperOptimised();
   truth[exK] = truth[eyK] = 0.0;
-  Planar2DofProblem problem({}, simulate(truth, 0.0, 1), 0, kPaperFreeParameters, truth);
+  Planar2DofProblem problem({}, simulatePlanar(truth, 0.0, 1), 0, kPaperFreeParameters, truth);
   SolveOptions options;
   options.method = Method::LevenbergMarquardt;
   const FitResult fit = solve(problem, problem.freeVector(paperStart()), options);
@@ -100,7 +61,8 @@ TEST(Planar2Dof, SevenParametersRecoveredWithinTwoSigmaFromPaperStart) {
   // converging from the paper's starting values.
   int within = 0, total = 0;
   for (unsigned seed = 2026; seed < 2046; ++seed) {
-    Planar2DofProblem problem({}, simulate(truth, noiseMm, seed), 0, kPaperFreeParameters, truth);
+    Planar2DofProblem problem({}, simulatePlanar(truth, noiseMm, seed), 0, kPaperFreeParameters,
+                              truth);
     SolveOptions options;
     options.method = Method::LevenbergMarquardt;
     const FitResult fit = solve(problem, problem.freeVector(paperStart()), options);
@@ -137,7 +99,8 @@ TEST(Planar2Dof, StandardDeviationsAreConsistentOverManyDataSets) {
     std::normal_distribution<double> noise(0.0, 1e-3);
     truth[exK] = noise(generator);
     truth[eyK] = noise(generator);
-    Planar2DofProblem problem({}, simulate(truth, 1e-3, seed), 0, kPaperFreeParameters, truth);
+    Planar2DofProblem problem({}, simulatePlanar(truth, 1e-3, seed), 0, kPaperFreeParameters,
+                              truth);
     SolveOptions options;
     options.method = Method::LevenbergMarquardt;
     const FitResult fit = solve(problem, problem.freeVector(paperStart()), options);
@@ -157,7 +120,7 @@ TEST(Planar2Dof, AllNineFreeNamesTheTwoTheDataCannotSeparate) {
   const Planar2DofParameters truth = paperOptimised();
   std::array<bool, kPlanar2DofParameterCount> allFree{};
   allFree.fill(true);
-  Planar2DofProblem problem({}, simulate(truth, 1e-3, 7), 0, allFree, truth);
+  Planar2DofProblem problem({}, simulatePlanar(truth, 1e-3, 7), 0, allFree, truth);
   SolveOptions options;
   options.method = Method::LevenbergMarquardt;
   const FitResult fit = solve(problem, problem.freeVector(paperStart()), options);

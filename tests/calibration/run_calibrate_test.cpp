@@ -36,7 +36,7 @@ class RunCalibrate : public ::testing::Test {
   std::string path(const std::string& name) const { return (directory_ / name).string(); }
 
   // Measurements of the FXYZ truth below with two tool lengths, as CSV text.
-  static std::string measurementCsv() {
+  static std::string measurementCsv(unsigned seed = 1) {
     const json truth{{"format", "volcomp-model/1"},
                      {"topology", "FXYZ"},
                      {"tool", {0, 0, 100}},
@@ -48,6 +48,7 @@ class RunCalibrate : public ::testing::Test {
     testing::SyntheticOptions options;
     options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
     options.noiseMm = 5e-4;
+    options.seed = seed;
     const MeasurementSet set = testing::simulate(testing::machineSpec(truth), options);
     std::ostringstream csv;
     csv.precision(17);
@@ -75,6 +76,21 @@ class RunCalibrate : public ::testing::Test {
       t["components"]["EXY"] = {{"identify", {{"basis", "polynomial"}, {"degree", 0}}}};
     }
     return t.dump();
+  }
+
+  static json readJson(const std::string& file) {
+    std::ifstream in(file);
+    return json::parse(in);
+  }
+
+  CalibrateOptions defaults(bool withStraightness = false) {
+    CalibrateOptions options;
+    options.templatePath = write("template.json", templateText(withStraightness));
+    options.measurementsPath = write("points.csv", measurementCsv());
+    options.outPath = path("model.json");
+    options.reportPath = path("report.json");
+    options.volcompVersion = "9.8.7";
+    return options;
   }
 
   fs::path directory_;
@@ -198,6 +214,132 @@ TEST_F(RunCalibrate, RobustLossWithTheLinearMethodIsAnOptionError) {
   }
   EXPECT_TRUE(out.str().empty());  // rejected before any work
   EXPECT_FALSE(fs::exists(options.outPath));
+}
+
+TEST_F(RunCalibrate, TheModelRecordsItsProvenanceAndMeasuredTools) {
+  CalibrateOptions options = defaults(true);
+  std::ostringstream out;
+  ASSERT_EQ(runCalibrate(options, out), 0);
+  const config::ModelDocument model = config::loadModelFile(options.outPath);
+  ASSERT_TRUE(model.calibration.has_value());
+  const config::CalibrationRecord& record = *model.calibration;
+  EXPECT_EQ(record.volcompVersion, "9.8.7");
+  EXPECT_EQ(record.date.size(), 20u) << record.date;  // 2026-12-01T19:40:00Z
+  EXPECT_EQ(record.templateFile, options.templatePath);
+  EXPECT_EQ(record.measurementFiles, std::vector<std::string>{options.measurementsPath});
+  EXPECT_EQ(record.points, 200);
+  EXPECT_EQ(record.parameterCount, 5);
+  EXPECT_EQ(record.rank, 4);
+  EXPECT_GT(*record.residualRmsBeforeMm, *record.residualRmsAfterMm);
+  EXPECT_NEAR(*record.s0Mm, 5e-4, 1e-4);
+  EXPECT_EQ(record.notIdentifiable, (std::vector<std::string>{"EXX c0", "EXY c0"}));
+  EXPECT_EQ(record.toolsMm,
+            (std::vector<Eigen::Vector3d>{Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)}));
+  EXPECT_NEAR(*config::toolDistanceMm(record, Eigen::Vector3d(0, 0, 300)), 50.0, 1e-9);
+  // The report: no sigma where not identifiable, the decision and the policy stated.
+  const json report = readJson(options.reportPath);
+  EXPECT_EQ(report["volcomp_version"], "9.8.7");
+  for (const json& p : report["parameters"]) {
+    EXPECT_EQ(p["std"].is_null(), !p["identifiable"].get<bool>()) << p.dump();
+  }
+  EXPECT_EQ(report["identifiability"]["projection_threshold"], kIdentifiabilityThreshold);
+  EXPECT_NE(report["identifiability"]["policy"].get<std::string>().find("minimum-norm change"),
+            std::string::npos);
+  const json& physical = report["unidentifiable"][0]["physical"];
+  EXPECT_EQ(physical["pivot"].get<std::string>().substr(0, 2), "EX");
+  EXPECT_NE(physical["description"].get<std::string>().find("1 um of EX"), std::string::npos)
+      << physical.dump();
+  EXPECT_EQ(report["tools_mm"].size(), 2u);
+  EXPECT_EQ(report["residuals"]["after"]["axes"]["rms_mm"].size(), 3u);
+  EXPECT_EQ(report["prediction"]["measured"]["coverage_factor"], 2.0);
+  EXPECT_EQ(report["prediction"]["measured"]["undetermined"], 0);
+  EXPECT_GT(report["prediction"]["measured"]["max_std_mm"].get<double>(), 0.0);
+  EXPECT_EQ(report["curves"].size(), 4u);  // EBX, EXX, EXY, EXZ
+}
+
+TEST_F(RunCalibrate, FarTooFewPointsAreRefusedWithASummaryUnlessForced) {
+  CalibrateOptions options = defaults();
+  options.measurementsPath = write("one.csv", "x,y,z,ex,ey,ez\n100,100,-100,0.001,0,0\n");
+  std::ostringstream out;
+  try {
+    runCalibrate(options, out);
+    FAIL() << "expected a refusal";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("identify 1 of 4"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(options.outPath));
+  // The summary says per component what is missing and what the data cover, in a few lines.
+  const std::string summary = out.str();
+  EXPECT_NE(summary.find("components.EXX: 2 of 2 not identifiable"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("the data: 1 point, X 100..100 mm"), std::string::npos) << summary;
+  options.force = true;
+  std::ostringstream forced;
+  EXPECT_EQ(runCalibrate(options, forced), 0);
+  EXPECT_TRUE(fs::exists(options.outPath));
+}
+
+TEST_F(RunCalibrate, HeldOutResidualsBesideTheFit) {
+  CalibrateOptions options = defaults();
+  options.validatePath = write("check.csv", measurementCsv(2));
+  std::ostringstream out;
+  ASSERT_EQ(runCalibrate(options, out), 0);
+  const json validation = readJson(options.reportPath)["residuals"]["validation"];
+  EXPECT_EQ(validation["kind"], "file");
+  EXPECT_EQ(validation["points"], 200);
+  // Independent noise of 0.5 um per coordinate: |e| RMS about 0.5 sqrt(3) = 0.87 um.
+  EXPECT_NEAR(validation["rms_mm"].get<double>(), 0.87e-3, 0.15e-3);
+  EXPECT_NE(out.str().find("residual |e| held out (" + options.validatePath), std::string::npos)
+      << out.str();
+  EXPECT_EQ(config::loadModelFile(options.outPath).calibration->validationFile,
+            options.validatePath);
+
+  CalibrateOptions folds = defaults();
+  folds.folds = 5;
+  std::ostringstream foldOut;
+  ASSERT_EQ(runCalibrate(folds, foldOut), 0);
+  const json kfold = readJson(folds.reportPath)["residuals"]["validation"];
+  EXPECT_EQ(kfold["kind"], "k-fold");
+  EXPECT_EQ(kfold["folds"], 5);
+  EXPECT_EQ(kfold["points"], 200);
+  EXPECT_EQ(kfold["fold_rank"], json({4, 4, 4, 4, 4}));
+  EXPECT_NEAR(kfold["rms_mm"].get<double>(), 0.87e-3, 0.15e-3);
+}
+
+TEST_F(RunCalibrate, PredictionsWithUncertaintyAtAnyPoint) {
+  CalibrateOptions options = defaults();
+  options.predictPath = write("at.csv",
+                              "# x, y, z and the tool\n"
+                              "x,y,z,tx,ty,tz\n"
+                              "400,250,-200,0,0,170\n"
+                              "400,250,-200,0,0,400\n");
+  options.predictOutPath = path("predicted.csv");
+  std::ostringstream out;
+  ASSERT_EQ(runCalibrate(options, out), 0);
+  std::ifstream in(options.predictOutPath);
+  std::string header, inside, outside;
+  std::getline(in, header);
+  std::getline(in, inside);
+  std::getline(in, outside);
+  EXPECT_EQ(header, "x,y,z,tx,ty,tz,ex,ey,ez,ux,uy,uz,k,determined");
+  EXPECT_EQ(inside.substr(inside.size() - 4), ",2,1") << inside;
+  // Two tool lengths separate the pitch: a third length is extrapolated, but determined.
+  EXPECT_EQ(outside.substr(outside.size() - 4), ",2,1") << outside;
+  const json at = readJson(options.reportPath)["prediction"]["at"];
+  ASSERT_EQ(at.size(), 2u);
+  EXPECT_EQ(at[0]["line"], 3);
+  EXPECT_LT(at[0]["std_mm"][0].get<double>(), at[1]["std_mm"][0].get<double>())
+      << "extrapolating to a longer tool is less certain";
+}
+
+TEST_F(RunCalibrate, ArcsecondsOnScreenOnRequest) {
+  CalibrateOptions options = defaults();
+  options.angleUnit = "arcsec";
+  std::ostringstream out;
+  ASSERT_EQ(runCalibrate(options, out), 0);
+  // EBX = 25 urad = 5.157 arcsec, shown to 4 significant digits.
+  EXPECT_NE(out.str().find("arcsec"), std::string::npos);
+  EXPECT_NE(out.str().find(" 5.1"), std::string::npos) << out.str();
 }
 
 }  // namespace

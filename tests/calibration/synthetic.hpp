@@ -30,6 +30,9 @@ struct SyntheticOptions {
   /// Also "measure" the angular error (ea, eb, ec), with noise angleNoiseRad (no frame rotation).
   bool withAngles = false;
   double angleNoiseRad = 0.0;
+  /// Every point is measured once per entry, approached in those directions (recorded in the
+  /// measurement's direction column).
+  std::vector<model::Directions> directions{model::Directions{}};
 };
 
 inline model::MachineModelSpec machineSpec(const nlohmann::json& document) {
@@ -54,8 +57,11 @@ inline MeasurementSet simulate(const model::MachineModelSpec& truth,
   set.file = "synthetic.csv";
   set.hasTool = true;
   set.hasAngles = options.withAngles;
+  set.hasDirection = options.directions.size() > 1 ||
+                     options.directions.front() != model::Directions{};
   std::normal_distribution<double> angleNoise(0.0, options.angleNoiseRad);
   int line = 2;
+  for (const model::Directions& directions : options.directions) {
   for (const Eigen::Vector3d& tool : options.tools) {
     for (double x : options.x) {
       for (double y : options.y) {
@@ -63,7 +69,8 @@ inline MeasurementSet simulate(const model::MachineModelSpec& truth,
           Measurement m;
           m.qMm = {x, y, z};
           m.toolMm = tool;
-          const model::PointError error = model::evaluate(model, ws, m.qMm, tool);
+          m.directions = directions;
+          const model::PointError error = model::evaluate(model, ws, m.qMm, tool, directions);
           const Eigen::Vector3d nominal = m.qMm + tool - truth.workpieceMm;
           m.errorMm = rotation * (nominal + error.errorMm) + options.frameTranslationMm - nominal;
           if (options.noiseMm > 0.0) {
@@ -81,6 +88,7 @@ inline MeasurementSet simulate(const model::MachineModelSpec& truth,
         }
       }
     }
+  }
   }
   return set;
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "temp_dir.hpp"
+#include "volcomp/daemon/configuration.hpp"
 
 namespace volcomp::config {
 namespace {
@@ -232,6 +233,40 @@ TEST(DaemonConfig, FileErrorsNameTheFile) {
   }
   const std::string good = dir.write("good.json", minimal().dump());
   EXPECT_EQ(loadDaemonConfig(good).modelPath, (dir.path() / "model.json").string());
+}
+
+// A calibrated model records the tools it was measured with; the daemon compensates for the
+// model's own tool and warns (start and reload) when that one was never measured.
+TEST(DaemonConfig, AModelToolFarFromTheCalibratedToolsIsAWarning) {
+  volcomp::daemon::testing::TempDir dir;
+  json model = json::parse(R"({"format": "volcomp-model/1", "topology": "XYFZ",
+    "travel": {"X": [0, 850], "Y": [0, 500], "Z": [-500, 0]}, "tool": [0, 0, 120],
+    "error_units": {"length": "um", "angle": "urad"}, "components": {"EBX": 12}})");
+  const auto load = [&](const json& m) {
+    std::vector<std::string> warnings;
+    const auto compensation =
+        daemon::loadCompensationModel(dir.write("m.json", m.dump()), &warnings);
+    EXPECT_NE(compensation, nullptr);
+    return warnings;
+  };
+  EXPECT_TRUE(load(model).empty());  // no calibration block: nothing to compare with
+  model["calibration"] = {{"tools_mm", {{0, 0, 100}, {0, 0, 200}}}};
+  EXPECT_TRUE(load(model).empty());  // 120 mm lies between the measured lengths
+  model["tool"] = {0, 0, 250};
+  const std::vector<std::string> warnings = load(model);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("its tool (0, 0, 250) mm is 50 mm outside the tools the model was "
+                             "calibrated with, (0, 0, 100); (0, 0, 200) mm"),
+            std::string::npos)
+      << warnings[0];
+  model["tool"] = {0, 0, 205};  // within the 10 mm tolerance
+  EXPECT_TRUE(load(model).empty());
+
+  json daemonFile = minimal();
+  model["tool"] = {0, 0, 250};
+  dir.write("model.json", model.dump());
+  const std::string configPath = dir.write("daemon.json", daemonFile.dump());
+  EXPECT_EQ(daemon::loadConfiguration(configPath).warnings.size(), 1u);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <fstream>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -164,20 +165,26 @@ TEST_F(CalibrationPipeline, CalibratedModelRemovesAtLeast90PercentOfTheTrueError
   // The template: per axis 4 tables (positioning and 3 angles) on 11 (X), 6 (Y), 6 (Z) nodes
   // = 44 + 24 + 24, 6 straightness polynomials c2..c6 = 30, 3 squareness constants.
   EXPECT_EQ(n, 44U + 24U + 24U + 30U + 3U);
+  // A parameter the data do not determine has no sigma and no correlations (issue 15).
+  std::vector<bool> identifiable;
   for (const json& p : report["parameters"]) {
     EXPECT_TRUE(p["name"].is_string());
     EXPECT_TRUE(p["value"].is_number()) << p.dump();
-    EXPECT_TRUE(p["std"].is_number()) << p.dump();
     EXPECT_TRUE(p["identifiable"].is_boolean()) << p.dump();
+    identifiable.push_back(p["identifiable"].get<bool>());
+    EXPECT_EQ(p["std"].is_number(), identifiable.back()) << p.dump();
+    EXPECT_EQ(p["std"].is_null(), !identifiable.back()) << p.dump();
   }
   const json& correlation = report["correlation"];
   ASSERT_EQ(correlation.size(), n);
   for (std::size_t i = 0; i < n; ++i) {
     ASSERT_EQ(correlation[i].size(), n);
-    if (report["parameters"][i]["identifiable"].get<bool>()) {
-      EXPECT_NEAR(correlation[i][i].get<double>(), 1.0, 1e-9) << i;
-    }
+    if (identifiable[i]) EXPECT_NEAR(correlation[i][i].get<double>(), 1.0, 1e-9) << i;
     for (std::size_t j = 0; j < i; ++j) {
+      if (!identifiable[i] || !identifiable[j]) {
+        EXPECT_TRUE(correlation[i][j].is_null() && correlation[j][i].is_null()) << i << ", " << j;
+        continue;
+      }
       EXPECT_NEAR(correlation[i][j].get<double>(), correlation[j][i].get<double>(), 1e-9);
       EXPECT_LE(std::abs(correlation[i][j].get<double>()), 1.0 + 1e-9);
     }
@@ -201,6 +208,21 @@ TEST_F(CalibrationPipeline, CalibratedModelRemovesAtLeast90PercentOfTheTrueError
   const int rank = report["rank"].get<int>();
   EXPECT_LT(rank, static_cast<int>(n));
   EXPECT_EQ(report["unidentifiable"].size(), n - static_cast<std::size_t>(rank));
+  // Every parameter flagged not identifiable is named in a combination, and no other.
+  std::set<std::string> named;
+  for (const json& u : report["unidentifiable"]) {
+    for (const json& name : u["parameters"]) named.insert(name.get<std::string>());
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(named.count(report["parameters"][i]["name"].get<std::string>()) == 1,
+              !identifiable[i])
+        << report["parameters"][i].dump();
+  }
+  // The written model records where it comes from and the tools it was measured with.
+  ASSERT_TRUE(stage1.contains("calibration"));
+  EXPECT_EQ(stage1["calibration"]["tools_mm"].size(), kTools.size());
+  EXPECT_EQ(stage1["calibration"]["rank"], rank);
+  EXPECT_EQ(stage1["calibration"]["not_identifiable"].size(), named.size());
   // The constant rolls of the X and Y carriages cannot be separated: both carry the table, and
   // a constant rotation about X of either turns the tool point relative to the table, r, into
   // the same displacement (a + b) e_x x r at every point and tool; unlike a pitch or yaw of Y,

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "temp_files.hpp"
+#include "volcomp/config/config_error.hpp"
 #include "volcomp/sim/commands.hpp"
 #include "volcomp/sim/path.hpp"
 
@@ -55,6 +57,26 @@ TEST(SimPath, RasterZigZagsInsideItsBox) {
   // After 1.05 s (105 mm): 100 mm along y = 0, then 5 mm up the step: (100, 5).
   EXPECT_NEAR(p.at(1.05)[0], 100.0, 1e-9);
   EXPECT_NEAR(p.at(1.05)[1], 5.0, 1e-9);
+}
+
+// A path file is read like every CSV of volcomp: header in any order, unit suffixes, comments.
+TEST(SimPath, CsvFileThroughTheSharedReader) {
+  volcomp::testing::TempDir dir;
+  const std::string file =
+      dir.write("path.csv", "# a square in XY\nz,y_um,x\n-10,0,0\n-10,0,100\n-10,50000,100\n");
+  const Path p = Path::fromCsv(file, 6000.0);
+  // (0,0) -> (100,0) -> (100,50) and back: 100 + 50 + hypot(100, 50).
+  EXPECT_NEAR(p.lengthMm(), 150.0 + std::hypot(100.0, 50.0), 1e-9);
+  EXPECT_NEAR(p.at(1.25)[1], 25.0, 1e-9);
+  EXPECT_DOUBLE_EQ(p.at(0.0)[2], -10.0);
+  const std::string bad = dir.write("bad.csv", "x,y,z\n1,2,3\n1,two,3\n");
+  try {
+    (void)Path::fromCsv(bad, 6000.0);
+    FAIL() << "accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.keyPath(), "line 3, column y") << e.what();
+  }
+  EXPECT_THROW((void)Path::fromCsv(dir.write("empty.csv", "x,y,z\n"), 6000.0), config::ConfigError);
 }
 
 TEST(SimMachine, PositionSemantics) {

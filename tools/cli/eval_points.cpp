@@ -2,14 +2,18 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "cli_support.hpp"
 #include "points_csv.hpp"
-#include "volcomp/config/text_input.hpp"
+#include "volcomp/config/csv_table.hpp"
 #include "volcomp/output/output_file.hpp"
 
 namespace volcomp::cli {
@@ -18,26 +22,51 @@ namespace {
 constexpr std::size_t kProgressEvery = 100000;
 constexpr std::size_t kFlushBytes = 1 << 20;
 
+// One model per tool offset of the input (the model's own for rows without a tool column).
+class ToolModels {
+ public:
+  explicit ToolModels(const model::MachineModel& model) : base_(model) {}
+  const model::MachineModel& forTool(const Eigen::Vector3d& toolMm) {
+    if (toolMm == base_.toolMm()) return base_;
+    for (const auto& [tool, model] : models_) {
+      if (tool == toolMm) return *model;
+    }
+    model::MachineModelSpec spec = base_.spec();
+    spec.toolMm = toolMm;
+    models_.emplace_back(toolMm, std::make_unique<model::MachineModel>(std::move(spec)));
+    return *models_.back().second;
+  }
+
+ private:
+  const model::MachineModel& base_;
+  std::vector<std::pair<Eigen::Vector3d, std::unique_ptr<model::MachineModel>>> models_;
+};
+
 // The compute part: errors and compensation offsets of a chunk of rows through the model's batch
 // paths (evaluateBatch, solveOffsetBatch: four points per SIMD register), then one output row per
-// point. The buffers are allocated once per file.
+// point. A chunk holds rows of one tool (a row with another tool flushes it first); directions
+// are per row. The buffers are allocated once per file.
 class PointsBatch {
  public:
   static constexpr std::size_t kCapacity = 4096;
 
-  PointsBatch(const model::MachineModel& model, const model::Directions& directions,
-              model::EvalMode mode)
-      : model_(model), mode_(mode), directions_(kCapacity, directions) {
+  PointsBatch(model::EvalMode mode, bool writeTool, bool writeDirection)
+      : mode_(mode), writeTool_(writeTool), writeDirection_(writeDirection) {
     options_.mode = mode;
     points_.reserve(kCapacity);
     lines_.reserve(kCapacity);
+    directions_.reserve(kCapacity);
     errors_.resize(kCapacity);
     offsets_.resize(kCapacity);
   }
 
   bool full() const { return points_.size() == kCapacity; }
-  void add(const Eigen::Vector3d& qMm, std::size_t line) {
+  /// The model of the rows added next; the caller flushes before changing it.
+  bool sameModel(const model::MachineModel& model) const { return model_ == &model; }
+  void setModel(const model::MachineModel& model) { model_ = &model; }
+  void add(const Eigen::Vector3d& qMm, const model::Directions& directions, std::size_t line) {
     points_.push_back(qMm);
+    directions_.push_back(directions);
     lines_.push_back(line);
   }
 
@@ -45,10 +74,12 @@ class PointsBatch {
   /// `summary`.
   void flush(std::string& out, PointsSummary& summary) {
     const std::size_t n = points_.size();
+    if (n == 0) return;
     const std::span<const model::Directions> directions(directions_.data(), n);
-    model::evaluateBatch(model_, ws_, points_, std::span(errors_.data(), n), mode_, directions);
-    model::solveOffsetBatch(model_, ws_, points_, std::span(offsets_.data(), n), directions,
+    model::evaluateBatch(*model_, ws_, points_, std::span(errors_.data(), n), mode_, directions);
+    model::solveOffsetBatch(*model_, ws_, points_, std::span(offsets_.data(), n), directions,
                             options_);
+    const Eigen::Vector3d& toolMm = model_->toolMm();
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::Vector3d& q = points_[i];
       const model::PointError& e = errors_[i];
@@ -64,18 +95,35 @@ class PointsBatch {
         appendDouble(out, v + 0.0);  // + 0.0 turns -0 into 0
         out += ',';
       }
+      if (writeTool_) {
+        for (double v : {toolMm.x(), toolMm.y(), toolMm.z()}) {
+          appendDouble(out, v + 0.0);
+          out += ',';
+        }
+      }
+      if (writeDirection_) {
+        for (model::Direction d : directions_[i]) {
+          out += d == model::Direction::Positive   ? '+'
+                 : d == model::Direction::Negative ? '-'
+                                                   : '0';
+        }
+        out += ',';
+      }
       out.back() = '\n';
     }
     points_.clear();
+    directions_.clear();
     lines_.clear();
   }
 
  private:
-  const model::MachineModel& model_;
+  const model::MachineModel* model_ = nullptr;
   model::EvalMode mode_;
+  bool writeTool_;
+  bool writeDirection_;
   model::OffsetOptions options_;
   model::Workspace ws_;
-  std::vector<model::Directions> directions_;  // the same for every row
+  std::vector<model::Directions> directions_;
   std::vector<Eigen::Vector3d> points_;
   std::vector<std::size_t> lines_;
   std::vector<model::PointError> errors_;
@@ -90,14 +138,23 @@ PointsSummary evaluatePointsFile(const model::MachineModel& model,
                                  const std::vector<std::string>& otherInputs) {
   std::vector<std::filesystem::path> inputs{inPath};
   inputs.insert(inputs.end(), otherInputs.begin(), otherInputs.end());
-  std::ifstream in = config::openTextFile(inPath);
-  PointsCsvReader reader(in, inPath);
+  std::ifstream in = config::CsvReader::open(inPath);
+  config::CsvReader csv(in, inPath, pointsSchema());
+  const int x = csv.column("x"), y = csv.column("y"), z = csv.column("z");
+  const int tx = csv.column("tx"), ty = csv.column("ty"), tz = csv.column("tz");
+  const int direction = csv.column("direction");
+
   // Prepared before the first row is evaluated: a bad --out fails at once, not after the work.
   output::OutputFile out(outPath, inputs);
-  std::string buffer = "x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz\n";
+  // The model file contract's twelve columns first; what the input adds per point after them.
+  std::string buffer = "x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz";
+  if (tx >= 0) buffer += ",tx,ty,tz";
+  if (direction >= 0) buffer += ",direction";
+  buffer += '\n';
   buffer.reserve(kFlushBytes + 4096);
   const bool progress = isatty(STDERR_FILENO) == 1;
-  PointsBatch batch(model, directions, mode);
+  ToolModels models(model);
+  PointsBatch batch(mode, tx >= 0, direction >= 0);
   PointsSummary summary;
   std::size_t lastProgress = 0;
   const auto flush = [&] {
@@ -111,9 +168,22 @@ PointsSummary evaluatePointsFile(const model::MachineModel& model,
       lastProgress = summary.rows;
     }
   };
-  Eigen::Vector3d qMm;
-  while (reader.next(qMm)) {
-    batch.add(qMm, reader.lineNumber());
+  while (csv.next()) {
+    const std::size_t lineNumber = csv.line();
+    const Eigen::Vector3d qMm(csv.number(x), csv.number(y), csv.number(z));
+    const Eigen::Vector3d toolMm =
+        tx >= 0 ? Eigen::Vector3d(csv.number(tx), csv.number(ty), csv.number(tz)) : model.toolMm();
+    if (std::find(summary.toolsMm.begin(), summary.toolsMm.end(), toolMm) ==
+        summary.toolsMm.end()) {
+      summary.toolsMm.push_back(toolMm);
+      summary.toolLines.push_back(lineNumber);
+    }
+    const model::MachineModel& toolModel = models.forTool(toolMm);
+    if (!batch.sameModel(toolModel)) {
+      flush();
+      batch.setModel(toolModel);
+    }
+    batch.add(qMm, direction >= 0 ? csv.directions(direction) : directions, lineNumber);
     if (batch.full()) flush();
   }
   flush();

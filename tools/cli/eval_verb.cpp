@@ -1,7 +1,9 @@
 #include "eval_verb.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
+#include <optional>
 #include <ostream>
 #include <variant>
 #include <vector>
@@ -69,6 +71,23 @@ void warnClamped(std::ostream& err, const model::MachineModelSpec& spec, std::ui
   }
   err << "volcomp eval: warning: outside the travel (" << detail
       << " mm): error functions evaluated at the nearest end of the travel\n";
+}
+
+// A model that records the tools it was calibrated with: a tool far outside them means the
+// errors that act through the tool's lever arms are extrapolated.
+void warnFarTool(std::ostream& err, const config::ModelDocument& doc, const Eigen::Vector3d& toolMm,
+                 const std::string& where) {
+  if (!doc.calibration) return;
+  const std::optional<double> distance = config::toolDistanceMm(*doc.calibration, toolMm);
+  if (!distance || *distance <= config::kCalibratedToolToleranceMm) return;
+  std::string tools;
+  for (const Eigen::Vector3d& t : doc.calibration->toolsMm) {
+    tools += (tools.empty() ? "(" : "; (") + triple(t) + ")";
+  }
+  err << "volcomp eval: warning: tool (" << triple(toolMm) << ") mm" << where << " is "
+      << formatDouble(std::round(*distance * 10.0) / 10.0)
+      << " mm outside the tools the model was calibrated with, " << tools
+      << " mm: errors that act through the tool's lever arms are extrapolated\n";
 }
 
 model::EvalMode evalMode(const EvalOptions& options) {
@@ -154,10 +173,15 @@ int evalPoint(const EvalOptions& options, const model::MachineModel& model,
   return kExitOk;
 }
 
-int evalPoints(const EvalOptions& options, const model::MachineModel& model,
-               const model::Directions& directions, std::ostream& err) {
+int evalPoints(const EvalOptions& options, const config::ModelDocument& doc,
+               const model::MachineModel& model, const model::Directions& directions,
+               std::ostream& err) {
   const PointsSummary s = evaluatePointsFile(model, directions, evalMode(options), options.points,
                                              options.out, {options.modelPath});
+  for (std::size_t t = 0; t < s.toolsMm.size(); ++t) {
+    warnFarTool(err, doc, s.toolsMm[t],
+                " (first at " + options.points + " line " + std::to_string(s.toolLines[t]) + ")");
+  }
   if (s.clampedRows > 0) {
     err << "volcomp eval: warning: " << s.clampedRows << " of " << s.rows
         << " points outside the travel (first at " << options.points << " line "
@@ -185,10 +209,14 @@ CLI::App* addEvalVerb(CLI::App& app, EvalOptions& options) {
       "--at", options.at,
       "Point X,Y,Z in mm; for a D-H chain one value per joint in chain order (mm prismatic, "
       "deg revolute)");
-  CLI::Option* points =
-      verb->add_option("--points", options.points, "CSV file with header x,y,z (mm)");
-  CLI::Option* outFile = verb->add_option("--out", options.out,
-                                          "CSV output: x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz (mm, rad)");
+  CLI::Option* points = verb->add_option(
+      "--points", options.points,
+      "CSV file with columns x,y,z [,tx,ty,tz] [,direction] in any order (mm unless a suffix such "
+      "as x_um says; '#' comments): per-point tool offset and direction of travel");
+  CLI::Option* outFile = verb->add_option(
+      "--out", options.out,
+      "CSV output: x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz (mm, rad), then tx,ty,tz and direction when "
+      "the input has them");
   at->excludes(points);
   points->needs(outFile);
   outFile->needs(points);
@@ -224,7 +252,8 @@ int runEval(const EvalOptions& options, std::ostream& out, std::ostream& err) {
   const model::Directions directions =
       options.direction.empty() ? model::Directions{} : parseDirections(options.direction);
   const model::MachineModel model(std::move(spec));
-  if (!options.points.empty()) return evalPoints(options, model, directions, err);
+  if (!options.points.empty()) return evalPoints(options, doc, model, directions, err);
+  warnFarTool(err, doc, model.toolMm(), "");
   return evalPoint(options, model, directions, out, err);
 }
 

@@ -1,5 +1,5 @@
 // volcomp: command-line access to volumetric error models (verbs `eval`, `check`, `calibrate`,
-// `iso230-2`, `export`, `report`).
+// `plan`, `iso230-2`, `export`, `report`).
 // Errors are caught here only: one line on stderr, exit status 2 for bad arguments or files.
 
 #include <exception>
@@ -15,6 +15,7 @@
 #include "export_verb.hpp"
 #include "iso230_2_verb.hpp"
 #include "report_verb.hpp"
+#include "plan_verb.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/printable.hpp"
 #include "volcomp/model/types.hpp"
@@ -51,6 +52,7 @@ int main(int argc, char** argv) {
   CLI::App* eval = addEvalVerb(app, evalOptions);
   CLI::App* check = addCheckVerb(app, checkOptions);
   volcomp::calibration::CalibrateOptions calibrateOptions;
+  calibrateOptions.volcompVersion = VOLCOMP_VERSION;
   CLI::App* calibrate = addCalibrateVerb(app, calibrateOptions);
   Iso230Options iso230Options;
   CLI::App* iso230 = addIso230Verb(app, iso230Options);
@@ -58,6 +60,8 @@ int main(int argc, char** argv) {
   CLI::App* exportVerb = addExportVerb(app, exportOptions);
   ReportOptions reportOptions;
   CLI::App* report = addReportVerb(app, reportOptions);
+  PlanArguments planArguments;
+  CLI::App* plan = addPlanVerb(app, planArguments);
 
   try {
     app.parse(argc, argv);
@@ -74,6 +78,10 @@ int main(int argc, char** argv) {
     if (iso230->parsed()) return runIso230(iso230Options, std::cout, std::cerr);
     if (exportVerb->parsed()) return runExport(exportOptions, std::cout);
     if (report->parsed()) return runReport(reportOptions, std::cout, std::cerr);
+    if (plan->parsed()) {
+      resolvePlanArguments(planArguments);
+      return volcomp::calibration::runPlan(planArguments.options, std::cout);
+    }
   } catch (const volcomp::config::ConfigError& e) {
     std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
     return kExitBadInput;

@@ -4,8 +4,10 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
-#include <sstream>
 #include <stdexcept>
+#include <utility>
+
+#include "volcomp/config/csv_table.hpp"
 
 namespace volcomp::sim {
 namespace {
@@ -77,28 +79,18 @@ Path Path::circle(const Vec3& center, double radiusMm, double feedMmMin) {
 }
 
 Path Path::fromCsv(const std::string& file, double feedMmMin) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file + ": cannot open the path file");
+  // The one CSV reader of volcomp: header with x,y,z in any order (unit suffixes allowed),
+  // comments; columns of eval's or the calibration's files are accepted and not read.
+  config::CsvSchema schema;
+  schema.add({"x", "y", "z"}, config::CsvQuantity::Length, true)
+      .ignore({"tx", "ty", "tz", "direction", "ex", "ey", "ez", "ea", "eb", "ec", "ox", "oy", "oz",
+               "weight"});
+  std::ifstream in = config::CsvReader::open(file);
+  config::CsvReader csv(in, file, std::move(schema));
+  const int x = csv.column("x"), y = csv.column("y"), z = csv.column("z");
   std::vector<Vec3> pts;
-  std::string line;
-  int lineNo = 0;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream fields(line);
-    Vec3 v{};
-    if (!(fields >> v[0] >> v[1] >> v[2])) {
-      if (lineNo == 1 && pts.empty()) continue;  // header row
-      throw std::runtime_error(file + ":" + std::to_string(lineNo) +
-                               ": expected three numbers x,y,z (mm)");
-    }
-    if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-      throw std::runtime_error(file + ":" + std::to_string(lineNo) + ": non-finite coordinate");
-    }
-    pts.push_back(v);
-  }
-  if (pts.empty()) throw std::runtime_error(file + ": no points");
+  while (csv.next()) pts.push_back(Vec3{csv.number(x), csv.number(y), csv.number(z)});
+  if (pts.empty()) throw config::ConfigError(file, "", "no points");
   return polyline(std::move(pts), feedMmMin);
 }
 

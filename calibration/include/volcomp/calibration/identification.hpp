@@ -19,6 +19,7 @@
 /// the measured one, times angleScaleMm (mm per rad) so that they weigh like lengths.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@
 #include "volcomp/calibration/least_squares.hpp"
 #include "volcomp/calibration/measurements.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/model/types.hpp"
 
 namespace volcomp::calibration {
 
@@ -42,6 +44,36 @@ struct ParameterInfo {
   double toDisplay = 1.0;
   /// Nuisance parameters (instrument frame) are fitted but not written to the model.
   bool nuisance = false;
+  /// What the internal value is, for the screen's units (um and urad or arcsec): a length (mm)
+  /// or an angle (rad) per mm^perMmPower (polynomial coefficients); Other is shown in `unit`.
+  enum class Kind { Length, Angle, Other };
+  Kind kind = Kind::Other;
+  int perMmPower = 0;
+};
+
+/// A point at which to predict the machine's error with the identified parameters.
+struct PredictionPoint {
+  Eigen::Vector3d qMm = Eigen::Vector3d::Zero();
+  /// Tool offset (mm); the template's when absent.
+  std::optional<Eigen::Vector3d> toolMm;
+  model::Directions directions{};
+  /// D-H chains: joint values (mm, revolute deg); empty: x, y, z for 3-joint chains.
+  std::vector<double> joints;
+};
+
+/// An identified error function of one component sampled at a few positions: value = g . p and
+/// its uncertainty through the fit's covariance (predictionUncertainty with g).
+struct Curve {
+  std::string component;  ///< e.g. "EXX"
+  /// "+" or "-" for the two curves of a bidirectional table, "" otherwise; "reversal" for the
+  /// difference negative - positive of a bidirectional table.
+  std::string direction;
+  std::string unit;        ///< display unit (the template's error units)
+  double toDisplay = 1.0;  ///< internal value * toDisplay = displayed value
+  bool angle = false;      ///< an angular component (rad internally)
+  std::vector<double> positionsMm;
+  /// Per position: d(value)/dp (internal units), dense over the parameters.
+  std::vector<Eigen::RowVectorXd> gradients;
 };
 
 struct IdentificationOptions {
@@ -64,8 +96,18 @@ class IdentificationProblem : public ResidualProblem {
   /// True for models linear in their parameters up to second-order terms (3-axis components),
   /// where the linear method is the default.
   virtual bool nearlyLinear() const = 0;
+  /// The machine's predicted volumetric error at `at` (mm, workpiece frame; the instrument frame
+  /// does not apply) and its 3 x n sensitivity to the parameters (internal units). The default
+  /// uses central differences of predictError().
+  virtual void prediction(const Eigen::VectorXd& p, const PredictionPoint& at,
+                          Eigen::Vector3d& errorMm, Eigen::Ref<Eigen::MatrixXd> jacobian) const;
+  /// The identified error functions sampled at their nodes (tables) or at 5 positions over the
+  /// travel (polynomials); empty where the problem has no such functions (D-H chains).
+  virtual std::vector<Curve> curves() const { return {}; }
 
  protected:
+  /// The machine's predicted error at `at` (used by the default prediction()).
+  virtual Eigen::Vector3d predictError(const Eigen::VectorXd& p, const PredictionPoint& at) const;
   std::vector<ParameterInfo> info_;
 };
 

@@ -71,6 +71,8 @@ class Planar2DofProblem final : public ResidualProblem {
   Eigen::VectorXd freeVector(const Planar2DofParameters& u) const;
   /// Full parameter set: `values` with the free ones replaced by p.
   Planar2DofParameters full(const double* p) const;
+  /// Index (Planar2DofParameter) of free parameter j.
+  int fullIndex(int j) const { return freeIndex_[static_cast<std::size_t>(j)]; }
 
  private:
   Planar2DofGeometry geometry_;

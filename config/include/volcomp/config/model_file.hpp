@@ -3,11 +3,13 @@
 /// key-path validation. Everything returned is in internal units (mm, rad).
 
 #include <map>
+#include <optional>
 #include <string>
 #include <variant>
 
 #include <nlohmann/json.hpp>
 
+#include "volcomp/config/calibration_record.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/model/dh_chain.hpp"
 #include "volcomp/model/machine_model.hpp"
@@ -38,6 +40,8 @@ struct ModelDocument {
   /// With ParseOptions::allowIdentify: key path (e.g. "components.EXX",
   /// "chain.links[1].dalpha") -> the raw "identify" block.
   std::map<std::string, nlohmann::json> identify;
+  /// The optional "calibration" block (provenance and measured tools), see calibration_record.hpp.
+  std::optional<CalibrationRecord> calibration;
 };
 
 /// Reads and validates a model file. Throws ConfigError (file, key path, what was expected).

@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "volcomp/config/daemon_config.hpp"
 #include "volcomp/loop/compensation_model.hpp"
@@ -15,6 +16,9 @@ namespace volcomp::daemon {
 struct LoadedConfiguration {
   config::DaemonConfig config;
   std::shared_ptr<loop::CompensationModel> model;
+  /// What the daemon logs as warnings when it starts or reloads with this model (e.g. a tool far
+  /// outside the tools the model was calibrated with).
+  std::vector<std::string> warnings;
 };
 
 /// Reads the daemon configuration (its transport section into the driver's settings) and the
@@ -22,8 +26,12 @@ struct LoadedConfiguration {
 LoadedConfiguration loadConfiguration(const std::string& configPath);
 
 /// Loads and validates a model file for the daemon (3-axis machine models only; a D-H chain is
-/// rejected). Throws config::ConfigError (file, key path, what was expected).
-std::shared_ptr<loop::CompensationModel> loadCompensationModel(const std::string& path);
+/// rejected). Throws config::ConfigError (file, key path, what was expected). When `warnings` is
+/// given, what is worth a warning about the model is appended to it: a tool more than
+/// config::kCalibratedToolToleranceMm outside the tool offsets recorded in the model's
+/// "calibration" block (the errors acting through the tool's lever arms are then extrapolated).
+std::shared_ptr<loop::CompensationModel> loadCompensationModel(
+    const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 /// The loop's settings (durations, mm) from the configuration file's values (ms, mm).
 loop::LoopSettings loopSettingsFrom(const config::DaemonConfig& config) noexcept;

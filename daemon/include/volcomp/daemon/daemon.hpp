@@ -17,6 +17,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "volcomp/config/daemon_config.hpp"
 #include "volcomp/daemon/configuration.hpp"
@@ -67,6 +68,7 @@ class Daemon {
   const loop::Clock& clock_;
   Notifier& notifier_;
   config::DaemonConfig config_;
+  std::vector<std::string> startWarnings_;  // the initial model's, logged by start()
   loop::CompensationLoop loop_;
   PeriodicScheduler scheduler_;
   Loader reloadLoader_;

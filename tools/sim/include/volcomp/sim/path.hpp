@@ -20,8 +20,9 @@ class Path {
   static Path raster(const Vec3& from, const Vec3& to, double stepMm, double feedMmMin);
   /// Circle in the XY plane around `center` (at center.z), counter-clockwise from +X.
   static Path circle(const Vec3& center, double radiusMm, double feedMmMin);
-  /// Points from a CSV file: one "x,y,z" row per point, an optional header row. Throws
-  /// std::runtime_error naming the file and line.
+  /// Points from a CSV file read with config::CsvReader: a header with x,y,z (mm, or a unit
+  /// suffix such as x_um; any order; `#` comments), one row per point. Throws config::ConfigError
+  /// (a std::runtime_error) naming the file, line and column.
   static Path fromCsv(const std::string& file, double feedMmMin);
 
   /// Programmed position after `pathTimeS` seconds of motion.

@@ -48,6 +48,10 @@ loop::LoopSettings loopSettingsFrom(const config::DaemonConfig& c) noexcept {
   s.directionHysteresisMm = c.directionHysteresisMm;
   s.offsetReadback = c.offsetReadback;
   s.plcZeroAfter = fromMs(c.plcZeroAfterMs.value_or(0.0));
+  s.readToWriteMax = fromMs(c.readToWriteMaxMs);
+  s.saturationWarning = fromMs(c.saturationWarningMs);
+  s.saturationFault = fromMs(c.saturationFaultMs);
+  s.faultLatch = c.faultLatch;
   s.reconnectInitial = fromMs(c.reconnect.initialMs);
   s.reconnectMax = fromMs(c.reconnect.maxMs);
   return s;

@@ -135,6 +135,7 @@ bool Daemon::cycle() {
     // At most one per backoff step (100 ms .. 2 s), so not a per-cycle line.
     spdlog::debug("reconnect failed: {}", report.error.message());
   }
+  logEvents(report);
   if (report.goodCycle && !ready_) {
     ready_ = true;
     notifier_.notify("READY=1");
@@ -155,22 +156,71 @@ bool Daemon::cycle() {
   return true;
 }
 
+// Events of a cycle that are not state changes, each logged once when it starts (never per
+// cycle): the saturation warning, an acknowledged latch, the first write withheld in a row.
+void Daemon::logEvents(const CycleReport& report) {
+  if (report.saturationAxis >= 0) {
+    const auto k = static_cast<std::size_t>(report.saturationAxis);
+    spdlog::warn(
+        "limiter: the clamp has held axis {} for {:.1f} s: the model asks for {:+.4f} mm, "
+        "max_offset_mm is {:.4f} (status SATURATED{})",
+        "XYZ"[k], std::chrono::duration<double>(loop_.settings().saturationWarning).count(),
+        report.saturationRequestedMm, loop_.settings().limiter.axes[k].maxOffsetMm,
+        loop_.settings().saturationFault.count() > 0
+            ? fmt::format("; fault sustained-limit after {:.1f} s",
+                          std::chrono::duration<double>(loop_.settings().saturationFault).count())
+            : std::string());
+  }
+  if (report.acknowledged) spdlog::info("latched fault acknowledged by the controller");
+  if (report.unknownOutcome) {
+    spdlog::debug("write failed on a live link ({}): the controller may have applied it",
+                  report.error.message());
+  }
+  if (report.withheld != loop::Withheld::None && report.withheld != lastWithheld_ &&
+      report.withheld != loop::Withheld::ReadbackOutOfRange) {
+    spdlog::warn("cycle wrote nothing: {}", report.withheld == loop::Withheld::StaleRead
+                                                ? "its reads were older than read_to_write_max_ms "
+                                                  "when the write was due (process stopped or "
+                                                  "starved, or a slow controller)"
+                                                : "no value within one step of every value the "
+                                                  "controller may apply after a failed write");
+  }
+  lastWithheld_ = report.withheld;
+}
+
+std::string Daemon::readbackText() const {
+  const auto& s = loop_.lastSample();
+  return fmt::format("applied offsets read back {:+.4f} {:+.4f} {:+.4f} mm, outside +-max_offset",
+                     s.appliedOffsetMm[0], s.appliedOffsetMm[1], s.appliedOffsetMm[2]);
+}
+
 void Daemon::logReport(const CycleReport& report) {
   lastLoggedFault_ = report.fault;
   const std::string_view from = loop::stateName(report.previous);
   const std::string_view to = loop::stateName(report.state);
-  const std::string error = report.error ? report.error.message() : std::string();
+  std::string error = report.error ? report.error.message() : std::string();
+  if (report.fault == FaultCode::ReadbackOutOfRange) {
+    error = readbackText() +
+            "; nothing is written while it is (the controller's heartbeat "
+            "watchdog removes them)";
+  }
+  const char* latched = loop_.latchedFault() != FaultCode::None
+                            ? " (latched: stays until the controller acknowledges it)"
+                            : "";
   switch (report.state) {
     case LoopState::Fault:
-      spdlog::warn("{} -> fault: {}{}{}", from, loop::faultName(report.fault),
-                   error.empty() ? "" : ": ", error);
+      spdlog::warn("{} -> fault: {}{}{}{}", from, loop::faultName(report.fault),
+                   error.empty() ? "" : ": ", error, latched);
       break;
     case LoopState::LinkLost:
       spdlog::warn("{} -> link lost{}{}; reconnecting with backoff", from,
                    error.empty() ? "" : ": ", error);
       break;
     case LoopState::Starting:
-      if (report.fault != FaultCode::None) {
+      if (report.fault == FaultCode::ReadbackOutOfRange) {
+        spdlog::warn("starting: {} ({}); waiting for offsets inside the band", readbackText(),
+                     loop::faultName(report.fault));
+      } else if (report.fault != FaultCode::None) {
         spdlog::warn("starting: applied offsets read back are invalid ({})",
                      loop::faultName(report.fault));
       } else {
@@ -191,6 +241,14 @@ std::string Daemon::statusLine() const {
       loop::stateName(loop_.state()), cycleRateHz_, o[0], o[1], o[2],
       loop::faultName(loop_.fault()), loop_.counters().faultCycles, scheduler_.overruns(),
       loop_.counters().linkLosses, loop_.model().name());
+  if (loop_.latchedFault() != FaultCode::None) {
+    line += fmt::format(", latched {} (acknowledge)", loop::faultName(loop_.latchedFault()));
+  }
+  const loop::LoopCounters& counts = loop_.counters();
+  if (counts.unknownOutcomes + counts.lateReads + counts.withheldWrites > 0) {
+    line += fmt::format(", unknown write outcomes {}, late reads {}, writes withheld {}",
+                        counts.unknownOutcomes, counts.lateReads, counts.withheldWrites);
+  }
   if (!reloadError_.empty()) line += ", reload failed: " + reloadError_;
   // One line: a newline would start a new sd_notify assignment.
   for (char& c : line) {

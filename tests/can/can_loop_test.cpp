@@ -133,8 +133,7 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
   loop::LoopSettings settings;
   // SYNC waits for the answer inside the cycle: a longer period leaves room for an emulated guest.
   settings.period = param.sync ? 20ms : 10ms;
-  settings.limiter.maxOffsetMm = 0.5;
-  settings.limiter.maxRateMmS = 0.2;
+  settings.limiter = volcomp::loop::LimiterSettings::uniform(0.5, 0.2);
   settings.staleTimeout = 200ms;
   settings.offsetReadback = true;
   settings.semantics = param.semantics;

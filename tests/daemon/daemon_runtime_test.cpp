@@ -47,8 +47,7 @@ config::DaemonConfig testConfig() {
   config::DaemonConfig c;
   c.file = "test.json";
   c.cyclePeriodMs = 2.0;
-  c.limiter.maxOffsetMm = 0.5;
-  c.limiter.maxRateMmS = 5.0;  // 0.01 mm per 2 ms cycle
+  c.limiter = loop::LimiterSettings::uniform(0.5, 5.0);  // 0.01 mm per 2 ms cycle
   c.staleTimeoutMs = 100.0;
   c.modelPath = "model.json";
   return c;

@@ -60,6 +60,8 @@ class Daemon {
  private:
   bool cycle();
   void logReport(const loop::CycleReport& report);
+  void logEvents(const loop::CycleReport& report);
+  std::string readbackText() const;
   void notifyPeriodic(loop::Clock::time_point now);
   void finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::string error);
 
@@ -87,6 +89,7 @@ class Daemon {
   std::uint64_t overrunsAtLastStatus_ = 0;
   double cycleRateHz_ = 0.0;
   loop::FaultCode lastLoggedFault_ = loop::FaultCode::None;
+  loop::Withheld lastWithheld_ = loop::Withheld::None;
 };
 
 }  // namespace volcomp::daemon

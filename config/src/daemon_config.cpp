@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "volcomp/config/json_reader.hpp"
+#include "volcomp/config/transport_limits.hpp"
 
 namespace volcomp::config {
 namespace {
@@ -48,7 +49,8 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
   root.allowOnly({"cycle_period_ms", "position_semantics", "limiter", "stale_timeout_ms",
                   "frozen_positions_are_stale", "travel_margin_mm", "direction_hysteresis_mm",
                   "offset_readback", "plc_zero_after_ms", "plc_heartbeat_timeout_ms",
-                  "read_to_write_max_ms", "fault_latch", "model", "reconnect", "log_level",
+                  "read_to_write_max_ms", "fault_latch", "service_watchdog_ms",
+                  "latency_compensation", "model", "reconnect", "log_level",
                   "transport"});
   DaemonConfig c;
   c.file = file;
@@ -120,6 +122,12 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
     }
   }
 
+  if (auto lc = root.find("latency_compensation")) {
+    lc->allowOnly({"enabled", "controller_latency_ms"});
+    c.latencyCompensation = lc->booleanOr("enabled", c.latencyCompensation);
+    if (auto v = lc->find("controller_latency_ms")) c.controllerLatencyMs = v->number(0.0, 1000.0);
+  }
+
   const JsonReader model = root.at("model");
   const std::string modelName = model.string();
   if (modelName.empty()) model.failExpected("a model file name");
@@ -141,7 +149,9 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
     c.logLevel = v->oneOf({"trace", "debug", "info", "warn", "error", "critical", "off"});
   }
 
+  if (auto v = root.find("service_watchdog_ms")) c.serviceWatchdogMs = positiveNumber(*v, 3.6e6);
   c.transport = parseTransportSettings(root.at("transport").json(), file, "transport");
+  checkTransportLimits(c);
   return c;
 }
 

@@ -1,5 +1,6 @@
 #include "volcomp/daemon/configuration.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -7,6 +8,7 @@
 
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/config/transport_limits.hpp"
 
 namespace volcomp::daemon {
 namespace {
@@ -52,6 +54,11 @@ loop::LoopSettings loopSettingsFrom(const config::DaemonConfig& c) noexcept {
   s.saturationWarning = fromMs(c.saturationWarningMs);
   s.saturationFault = fromMs(c.saturationFaultMs);
   s.faultLatch = c.faultLatch;
+  s.latencyCompensation = c.latencyCompensation;
+  s.controllerLatency = fromMs(c.controllerLatencyMs);
+  // A read-back of what was written may differ by one count of its register.
+  s.readbackResolutionMm =
+      std::max(loop::kReadbackResolutionMm, config::readbackCountMm(c.transport));
   s.reconnectInitial = fromMs(c.reconnect.initialMs);
   s.reconnectMax = fromMs(c.reconnect.maxMs);
   return s;

@@ -43,7 +43,17 @@ Daemon::Daemon(asio::io_context& io, loop::ControllerPort& port, WaitableClock& 
       onFinished_(std::move(onFinished)) {}
 
 Daemon::~Daemon() {
-  if (reloadThread_.joinable()) reloadThread_.join();
+  abandonReload();
+}
+
+// A reload's helper thread is detached: a load blocked on file I/O (a hung mount, a FIFO as the
+// model path) must never hold a stop or the next reload. Once abandoned it hands nothing back;
+// whatever it loads is dropped when it finishes, if ever.
+void Daemon::abandonReload() {
+  if (!reload_) return;
+  std::lock_guard lock(reload_->mutex);
+  reload_->abandoned = true;
+  reload_.reset();
 }
 
 void Daemon::start() {
@@ -70,29 +80,49 @@ void Daemon::requestStop() {
 }
 
 void Daemon::requestReload() {
+  if (stopping_) return;
   if (reloading_) {
-    spdlog::warn("reload requested while one is in progress; ignored");
+    reloadAgain_ = true;
+    spdlog::warn("reload requested while one is in progress (for {:.1f} s): it follows that one",
+                 std::chrono::duration<double>(clock_.now() - reloadStarted_).count());
     return;
   }
-  if (stopping_) return;
   reloading_ = true;
+  reloadAgain_ = false;
+  reloadStarted_ = clock_.now();
   spdlog::info("reloading configuration and model");
   notifier_.notify("RELOADING=1\nMONOTONIC_USEC=" + monotonicUsec());
-  if (reloadThread_.joinable()) reloadThread_.join();
-  reloadThread_ = std::thread([this] {
+  auto job = std::make_shared<ReloadJob>();
+  reload_ = job;
+  std::thread([job, loader = reloadLoader_, io = &io_, this] {
     std::shared_ptr<LoadedConfiguration> loaded;
     std::string error;
     try {
-      loaded = std::make_shared<LoadedConfiguration>(reloadLoader_());
+      loaded = std::make_shared<LoadedConfiguration>(loader());
     } catch (const std::exception& e) {
       error = e.what();
     }
-    asio::post(io_, [this, loaded, error] { finishReload(loaded, error); });
-  });
+    std::lock_guard lock(job->mutex);
+    if (job->abandoned) return;
+    asio::post(*io, [this, job, loaded, error] {
+      if (!job->abandoned) finishReload(loaded, error);
+    });
+  }).detach();
+}
+
+// A reload that has not finished after kReloadTimeout is given up (its thread may be blocked on
+// file I/O for ever): the running model stays, RELOAD_FAILED is set, and reloads work again.
+void Daemon::checkReloadTimeout(loop::Clock::time_point now) {
+  if (!reloading_ || now - reloadStarted_ < kReloadTimeout) return;
+  abandonReload();
+  finishReload(nullptr, fmt::format("not finished after {} s (a file blocked on I/O?); abandoned",
+                                    std::chrono::duration_cast<std::chrono::seconds>(
+                                        kReloadTimeout)
+                                        .count()));
 }
 
 void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::string error) {
-  if (reloadThread_.joinable()) reloadThread_.join();
+  reload_.reset();
   reloading_ = false;
   if (!loaded) {
     reloadError_ = error.empty() ? std::string("unknown error") : error;
@@ -125,6 +155,10 @@ void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::stri
   }
   // A reload ends with READY=1 either way: the service keeps running.
   if (ready_) notifier_.notify("READY=1");
+  if (reloadAgain_ && !stopping_) {
+    reloadAgain_ = false;
+    asio::post(io_, [this] { requestReload(); });
+  }
 }
 
 bool Daemon::cycle() {
@@ -144,9 +178,12 @@ bool Daemon::cycle() {
   const loop::Clock::time_point now = clock_.now();
   if (report.state == LoopState::Finished) {
     finished_ = true;
+    abandonReload();
     notifier_.notify("STATUS=stopped");
-    spdlog::info("stopped after {} cycles ({} overruns); latest start {} us after its deadline",
-                 loop_.counters().cycles, scheduler_.overruns(),
+    spdlog::info("stopped after {} cycles ({} overruns); {} late reads, {} unknown write "
+                 "outcomes; latest start {} us after its deadline",
+                 loop_.counters().cycles, scheduler_.overruns(), loop_.counters().lateReads,
+                 loop_.counters().unknownOutcomes,
                  std::chrono::duration_cast<std::chrono::microseconds>(scheduler_.maxWakeLateness())
                      .count());
     if (onFinished_) asio::post(io_, onFinished_);
@@ -258,6 +295,7 @@ std::string Daemon::statusLine() const {
 }
 
 void Daemon::notifyPeriodic(loop::Clock::time_point now) {
+  checkReloadTimeout(now);
   if (watchdog_ && now - lastWatchdog_ >= *watchdog_ / 4) {
     notifier_.notify("WATCHDOG=1");
     lastWatchdog_ = now;
@@ -276,6 +314,14 @@ void Daemon::notifyPeriodic(loop::Clock::time_point now) {
                    std::chrono::duration<double>(sinceStatus).count(),
                    scheduler_.missedDeadlines());
       overrunsAtLastStatus_ = overruns;
+    }
+    const std::uint64_t lateReads = loop_.counters().lateReads;
+    if (lateReads != lateReadsAtLastStatus_) {
+      spdlog::warn(
+          "{} late reads in the last {:.1f} s: a read was older than read_to_write_max_ms when its "
+          "write was due (process stopped or starved, or a slow controller); read again",
+          lateReads - lateReadsAtLastStatus_, std::chrono::duration<double>(sinceStatus).count());
+      lateReadsAtLastStatus_ = lateReads;
     }
     notifier_.notify("STATUS=" + statusLine());
     if (loop_.state() == LoopState::Starting && loop_.settings().offsetReadback &&

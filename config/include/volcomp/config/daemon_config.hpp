@@ -25,6 +25,9 @@
 ///                                            from its read to its write reads again
 ///     "fault_latch": true,                   faults (but a failed transaction) stay until the
 ///                                            controller acknowledges them
+///     "service_watchdog_ms": 2000,           the unit's WatchdogSec (config/transport_limits.hpp)
+///     "latency_compensation": {"enabled": false,   evaluate the model where the axes will be
+///                              "controller_latency_ms": 0},  when the offset acts
 ///   * "model": "model.json",                 relative to this file's directory
 ///     "reconnect": {"initial_ms": 100, "max_ms": 2000},
 ///     "log_level": "info",                   trace|debug|info|warn|error|critical|off
@@ -67,6 +70,12 @@ struct DaemonConfig {
   double saturationWarningMs = 1000.0;
   double saturationFaultMs = 10000.0;
   bool faultLatch = true;
+  /// The service manager's watchdog interval (WatchdogSec of the installed unit, which a test
+  /// compares with this default); a cycle may
+  /// block on its transactions for at most half of it (config/transport_limits.hpp).
+  double serviceWatchdogMs = 2000.0;
+  bool latencyCompensation = false;
+  double controllerLatencyMs = 0.0;
   std::string modelPath;  ///< resolved against the configuration file's directory
   ReconnectConfig reconnect;
   std::string logLevel = "info";

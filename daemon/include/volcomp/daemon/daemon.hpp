@@ -1,8 +1,10 @@
 #pragma once
 /// The daemon around the loop: the periodic scheduler, service-manager notifications, state-change
 /// logging, stop and reload. Everything runs on one io_context thread except the reload's file
-/// loading and validation, which runs on a helper thread and hands its result back to the
-/// io_context, so that a slow or failing load never delays a cycle.
+/// loading and validation, which runs on a detached helper thread and hands its result back to
+/// the io_context, so that a slow, failing or hung load never delays a cycle or a stop: a stop
+/// abandons a reload in progress, and a reload not finished after kReloadTimeout is given up
+/// (RELOAD_FAILED, the running model stays). A reload requested during another follows it.
 ///
 /// Notifications: READY=1 after the first good cycle (and after each reload), WATCHDOG=1 from the
 /// cycle itself at a quarter of the watchdog interval (a stuck cycle stops the pings),
@@ -15,8 +17,8 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
-#include <thread>
 
 #include "volcomp/config/daemon_config.hpp"
 #include "volcomp/daemon/configuration.hpp"
@@ -30,6 +32,9 @@ namespace volcomp::daemon {
 
 class Daemon {
  public:
+  /// How long a reload may take before it is given up.
+  static constexpr std::chrono::seconds kReloadTimeout{10};
+
   /// Loads a configuration for a reload; throws on a bad file (the running one then stays).
   using Loader = std::function<LoadedConfiguration()>;
 
@@ -64,6 +69,15 @@ class Daemon {
   std::string readbackText() const;
   void notifyPeriodic(loop::Clock::time_point now);
   void finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::string error);
+  void checkReloadTimeout(loop::Clock::time_point now);
+  void abandonReload();
+
+  /// Shared with a reload's helper thread: set `abandoned` (under the mutex) and the thread
+  /// hands nothing back.
+  struct ReloadJob {
+    std::mutex mutex;
+    bool abandoned = false;
+  };
 
   asio::io_context& io_;
   const loop::Clock& clock_;
@@ -73,7 +87,9 @@ class Daemon {
   PeriodicScheduler scheduler_;
   Loader reloadLoader_;
   std::function<void()> onFinished_;
-  std::thread reloadThread_;
+  std::shared_ptr<ReloadJob> reload_;
+  bool reloadAgain_ = false;
+  loop::Clock::time_point reloadStarted_{};
 
   bool ready_ = false;
   bool stopping_ = false;
@@ -87,6 +103,7 @@ class Daemon {
   bool warnedStarting_ = false;
   std::uint64_t cyclesAtLastStatus_ = 0;
   std::uint64_t overrunsAtLastStatus_ = 0;
+  std::uint64_t lateReadsAtLastStatus_ = 0;
   double cycleRateHz_ = 0.0;
   loop::FaultCode lastLoggedFault_ = loop::FaultCode::None;
   loop::Withheld lastWithheld_ = loop::Withheld::None;

@@ -5,6 +5,7 @@
 
 #include <asio/post.hpp>
 #include <exception>
+#include <thread>
 #include <utility>
 
 #include "volcomp/config/config_error.hpp"
@@ -83,13 +84,14 @@ void Daemon::requestReload() {
   if (stopping_) return;
   if (reloading_) {
     reloadAgain_ = true;
-    spdlog::warn("reload requested while one is in progress (for {:.1f} s): it follows that one",
-                 std::chrono::duration<double>(clock_.now() - reloadStarted_).count());
+    spdlog::warn(
+        "reload requested while one is in progress (for {:.1f} s): it follows that one",
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - reloadStarted_).count());
     return;
   }
   reloading_ = true;
   reloadAgain_ = false;
-  reloadStarted_ = clock_.now();
+  reloadStarted_ = std::chrono::steady_clock::now();
   spdlog::info("reloading configuration and model");
   notifier_.notify("RELOADING=1\nMONOTONIC_USEC=" + monotonicUsec());
   auto job = std::make_shared<ReloadJob>();
@@ -110,15 +112,14 @@ void Daemon::requestReload() {
   }).detach();
 }
 
-// A reload that has not finished after kReloadTimeout is given up (its thread may be blocked on
+// A reload that has not finished after reloadTimeout_ is given up (its thread may be blocked on
 // file I/O for ever): the running model stays, RELOAD_FAILED is set, and reloads work again.
-void Daemon::checkReloadTimeout(loop::Clock::time_point now) {
-  if (!reloading_ || now - reloadStarted_ < kReloadTimeout) return;
+void Daemon::checkReloadTimeout() {
+  if (!reloading_ || std::chrono::steady_clock::now() - reloadStarted_ < reloadTimeout_) return;
   abandonReload();
-  finishReload(nullptr, fmt::format("not finished after {} s (a file blocked on I/O?); abandoned",
-                                    std::chrono::duration_cast<std::chrono::seconds>(
-                                        kReloadTimeout)
-                                        .count()));
+  finishReload(nullptr,
+               fmt::format("not finished after {:.1f} s (a file blocked on I/O?); abandoned",
+                           std::chrono::duration<double>(reloadTimeout_).count()));
 }
 
 void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::string error) {
@@ -180,12 +181,13 @@ bool Daemon::cycle() {
     finished_ = true;
     abandonReload();
     notifier_.notify("STATUS=stopped");
-    spdlog::info("stopped after {} cycles ({} overruns); {} late reads, {} unknown write "
-                 "outcomes; latest start {} us after its deadline",
-                 loop_.counters().cycles, scheduler_.overruns(), loop_.counters().lateReads,
-                 loop_.counters().unknownOutcomes,
-                 std::chrono::duration_cast<std::chrono::microseconds>(scheduler_.maxWakeLateness())
-                     .count());
+    spdlog::info(
+        "stopped after {} cycles ({} overruns); {} late reads, {} unknown write "
+        "outcomes; latest start {} us after its deadline",
+        loop_.counters().cycles, scheduler_.overruns(), loop_.counters().lateReads,
+        loop_.counters().unknownOutcomes,
+        std::chrono::duration_cast<std::chrono::microseconds>(scheduler_.maxWakeLateness())
+            .count());
     if (onFinished_) asio::post(io_, onFinished_);
     return false;
   }
@@ -295,7 +297,7 @@ std::string Daemon::statusLine() const {
 }
 
 void Daemon::notifyPeriodic(loop::Clock::time_point now) {
-  checkReloadTimeout(now);
+  checkReloadTimeout();
   if (watchdog_ && now - lastWatchdog_ >= *watchdog_ / 4) {
     notifier_.notify("WATCHDOG=1");
     lastWatchdog_ = now;

@@ -64,6 +64,7 @@ CompensationLoop::CompensationLoop(ControllerPort& port, const Clock& clock,
   // plcZeroAfter; this process has written nothing so far, so the wait starts now.
   lastWriteTime_ = clock_.now();
   lastSentTime_ = lastWriteTime_;
+  constructed_ = lastWriteTime_;
 }
 
 void CompensationLoop::requestStop() noexcept {
@@ -304,7 +305,7 @@ void CompensationLoop::trackVelocity(time_point readAt, const std::array<double,
                                      bool fresh) noexcept {
   if (!settings_.latencyCompensation || !fresh) return;
   if (readAt - lastVelocitySample_ > 4 * settings_.period) velocity_.reset();
-  velocity_.add(seconds(readAt.time_since_epoch()), qMm);
+  velocity_.add(seconds(readAt - constructed_), qMm);
   lastVelocitySample_ = readAt;
 }
 
@@ -312,8 +313,8 @@ std::array<double, 3> CompensationLoop::predictedPosition(const std::array<doubl
                                                           time_point readAt,
                                                           time_point readEnd) const noexcept {
   if (!settings_.latencyCompensation || !velocity_.valid()) return qMm;
-  const double horizonS =
-      seconds(readEnd - readAt) + seconds(settings_.controllerLatency) + 0.5 * seconds(settings_.period);
+  const double horizonS = seconds(readEnd - readAt) + seconds(settings_.controllerLatency) +
+                          0.5 * seconds(settings_.period);
   std::array<double, 3> lo{}, hi{};
   const auto& travel = model_->travelMm();
   for (std::size_t k = 0; k < 3; ++k) {

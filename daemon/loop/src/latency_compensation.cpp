@@ -5,7 +5,9 @@
 
 namespace volcomp::loop {
 
-void VelocityEstimator::add(double tS, const std::array<double, 3>& qMm) noexcept {
+void VelocityEstimator::add(double absoluteS, const std::array<double, 3>& qMm) noexcept {
+  if (count_ == 0) origin_ = absoluteS;
+  const double tS = absoluteS - origin_;
   if (count_ > 0 && !(tS > t_[static_cast<std::size_t>(std::min(count_, 3) - 1)])) {
     const auto last = static_cast<std::size_t>(std::min(count_, 3) - 1);
     t_[last] = tS;

@@ -217,7 +217,8 @@ class CompensationLoop {
   DirectionTracker tracker_;
   VelocityEstimator velocity_;
   time_point lastVelocitySample_{};
-  time_point readEnd_{};  // when the read of the cycle returned
+  time_point constructed_{};  // origin of the velocity samples' times (small doubles)
+  time_point readEnd_{};      // when the read of the cycle returned
   LoopCounters counters_{};
 
   /// Writes with an unknown outcome since the last acknowledged one: the controller applies a

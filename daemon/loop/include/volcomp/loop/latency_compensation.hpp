@@ -34,7 +34,8 @@ class VelocityEstimator {
   std::array<double, 3> velocityMmS() const noexcept;
 
  private:
-  std::array<double, 3> t_{};                 // oldest first
+  double origin_ = 0.0;  // the first sample's time: the fit works on small times, not on epochs
+  std::array<double, 3> t_{};                 // oldest first, relative to origin_
   std::array<std::array<double, 3>, 3> q_{};  // q_[i][axis]
   int count_ = 0;
 };

@@ -275,6 +275,33 @@ TEST_F(TimingFaults, GarbledReadBackWhileActiveWithholdsTheWrite) {
   for (double o : port.last.offsetMm) EXPECT_LE(std::abs(o), 0.5);
 }
 
+// The same with the fault latch (the default): once the read-back is inside again the loop
+// writes again, in fault and ramping out from the read-back, until the controller acknowledges
+// (here: enable off); it is not held silent by the latched fault.
+TEST_F(TimingFaults, LatchedReadBackFaultWritesAgainOnceTheReadBackIsInside) {
+  make();
+  runUntilSettled();
+  port.holdApplied = true;
+  const auto good = port.applied;
+  port.applied = {150.0, 0.0, 0.0};
+  EXPECT_EQ(cycle().withheld, Withheld::ReadbackOutOfRange);
+  port.applied = good;
+  port.holdApplied = false;
+  CycleReport r = cycle();
+  EXPECT_TRUE(r.wrote);
+  EXPECT_EQ(r.state, LoopState::Fault);
+  EXPECT_EQ(r.fault, FaultCode::ReadbackOutOfRange);
+  EXPECT_NE(port.last.status & status::kLatched, 0);
+  EXPECT_LT(std::abs(port.last.offsetMm[2]), std::abs(good[2]));
+  port.sample.enable = false;  // acknowledge
+  r = cycle();
+  EXPECT_TRUE(r.acknowledged);
+  port.sample.enable = true;
+  r = cycle();
+  EXPECT_EQ(r.state, LoopState::Active);
+  EXPECT_EQ(port.last.status & status::kLatched, 0);
+}
+
 // A reload that narrows the band below the applied offsets is not a read-back fault: they are
 // this loop's own, and return into the band at the rate limit.
 TEST_F(TimingFaults, OwnOffsetsOutsideANarrowedBandReturnAtTheRateLimit) {

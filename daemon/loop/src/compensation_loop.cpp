@@ -329,6 +329,7 @@ CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFai
   Decision d;
   if (!readFailed && readbackOutOfRange()) {
     d.fault = FaultCode::ReadbackOutOfRange;
+    d.readbackOutside = true;
   } else if (stopRequested_) {
     d.next = LoopState::Stopping;
   } else if (readFailed || lastWriteFailed_) {
@@ -553,7 +554,7 @@ CycleReport CompensationLoop::step() noexcept {
     if (pastStopDeadline) return finish();
     return withhold(Withheld::StaleRead, state_, fault_);
   }
-  if (d.fault == FaultCode::ReadbackOutOfRange) {
+  if (d.readbackOutside) {
     if (pastStopDeadline) return finish();
     return withhold(Withheld::ReadbackOutOfRange, LoopState::Fault, d.fault);
   }

@@ -171,6 +171,8 @@ class CompensationLoop {
     bool outOfTravel = false;
     bool evaluated = false;  ///< the model gave a valid target this cycle
     bool saturated = false;
+    /// The read-back is outside the band in this cycle (not merely a latched fault of it).
+    bool readbackOutside = false;
   };
 
   void enterLinkLost(time_point now, CycleReport& report) noexcept;

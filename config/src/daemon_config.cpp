@@ -49,9 +49,8 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
   root.allowOnly({"cycle_period_ms", "position_semantics", "limiter", "stale_timeout_ms",
                   "frozen_positions_are_stale", "travel_margin_mm", "direction_hysteresis_mm",
                   "offset_readback", "plc_zero_after_ms", "plc_heartbeat_timeout_ms",
-                  "read_to_write_max_ms", "fault_latch", "service_watchdog_ms",
-                  "latency_compensation", "model", "reconnect", "log_level",
-                  "transport"});
+                  "read_to_write_max_ms", "fault_latch", "service_watchdog_ms", "model",
+                  "reconnect", "log_level", "transport"});
   DaemonConfig c;
   c.file = file;
   if (auto v = root.find("cycle_period_ms")) c.cyclePeriodMs = v->number(1.0, 1000.0);
@@ -120,12 +119,6 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
                       shortNumber(c.plcHeartbeatTimeoutMs - c.cyclePeriodMs) +
                       " ms): the PLC could remove the offsets between a read and its write");
     }
-  }
-
-  if (auto lc = root.find("latency_compensation")) {
-    lc->allowOnly({"enabled", "controller_latency_ms"});
-    c.latencyCompensation = lc->booleanOr("enabled", c.latencyCompensation);
-    if (auto v = lc->find("controller_latency_ms")) c.controllerLatencyMs = v->number(0.0, 1000.0);
   }
 
   const JsonReader model = root.at("model");

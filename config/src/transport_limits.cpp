@@ -61,12 +61,11 @@ void checkRegister(const DaemonConfig& c, const modbus::ValueRegister& r, std::s
   }
   const double holdsMm = range.max / r.format.countsPerMm;
   if (maxOffset > holdsMm) {
-    throw ConfigError(
-        c.file, keyPath,
-        std::string("an ") + range.name + " at " + number(r.format.countsPerMm) +
-            " counts/mm holds +-" + number(holdsMm) + " mm, less than limiter.max_offset_mm " +
-            number(maxOffset) + " mm (" + kAxes[axis] +
-            "): use a wider type or fewer counts_per_mm");
+    throw ConfigError(c.file, keyPath,
+                      std::string("an ") + range.name + " at " + number(r.format.countsPerMm) +
+                          " counts/mm holds +-" + number(holdsMm) +
+                          " mm, less than limiter.max_offset_mm " + number(maxOffset) + " mm (" +
+                          kAxes[axis] + "): use a wider type or fewer counts_per_mm");
   }
 }
 
@@ -112,8 +111,8 @@ void checkModbus(const DaemonConfig& c, const modbus::ModbusSettings& m) {
   if (blockedMs > c.serviceWatchdogMs / 2.0) {
     throw ConfigError(
         c.file, "transport.response_timeout_ms",
-        "a cycle may wait " + std::to_string(transactions) + " x " +
-            number(m.responseTimeoutMs) + " ms = " + number(blockedMs) +
+        "a cycle may wait " + std::to_string(transactions) + " x " + number(m.responseTimeoutMs) +
+            " ms = " + number(blockedMs) +
             " ms for its transactions, more than half the service watchdog (" +
             number(c.serviceWatchdogMs) +
             " ms, service_watchdog_ms = WatchdogSec of the unit): a slow controller would get "
@@ -140,7 +139,8 @@ void checkCan(const DaemonConfig& c, const can::CanLayout& layout) {
       }
     }
   }
-  const double responseMs = std::chrono::duration<double, std::milli>(layout.responseTimeout).count();
+  const double responseMs =
+      std::chrono::duration<double, std::milli>(layout.responseTimeout).count();
   if (layout.trigger == can::Trigger::Sync && responseMs > c.serviceWatchdogMs / 2.0) {
     throw ConfigError(c.file, "transport.response_timeout_ms",
                       "a cycle may wait " + number(responseMs) +

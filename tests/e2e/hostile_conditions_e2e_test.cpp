@@ -62,8 +62,7 @@ TEST_F(Hostile, LeftOverOffsetOutsideTheBandIsNeverTakenOver) {
   EXPECT_LE(std::abs(rows.front().offsetMm[0]), kMaxOffsetMm + kQuantumMm);
   EXPECT_GE(report["watchdog_trips"].get<int>(), 1);
   const std::string log = daemonLog();
-  EXPECT_NE(log.find("+0.1500"), std::string::npos) << "the log names the value read back\n"
-                                                    << log;
+  EXPECT_NE(log.find("+0.1500"), std::string::npos) << "the log names the value read back\n" << log;
 }
 
 // While active, the X read-back reports 150 mm for 0.6 s (a garbled reply): fault, nothing
@@ -126,9 +125,11 @@ TEST_F(Hostile, StopRampsOutAndExitsWhileAReloadBlocksOnAFifo) {
   ASSERT_TRUE(daemon_->waitForStderr("it follows that one", 10s)) << daemonLog();
   daemon_->signal(SIGTERM);
   EXPECT_EQ(daemon_->waitExit(10s), 0) << daemonLog();
-  ASSERT_TRUE(waitForSim([](const json& s) {
-    return largestAbs(s["applied_offset_mm"].get<std::array<double, 3>>()) == 0.0;
-  }, 5s));
+  ASSERT_TRUE(waitForSim(
+      [](const json& s) {
+        return largestAbs(s["applied_offset_mm"].get<std::array<double, 3>>()) == 0.0;
+      },
+      5s));
   const json report = finishSim();
   expectRecordWithinLimits(report);
   const auto rows = record();

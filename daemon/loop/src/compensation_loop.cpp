@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <utility>
 
 namespace volcomp::loop {
@@ -64,7 +63,6 @@ CompensationLoop::CompensationLoop(ControllerPort& port, const Clock& clock,
   // plcZeroAfter; this process has written nothing so far, so the wait starts now.
   lastWriteTime_ = clock_.now();
   lastSentTime_ = lastWriteTime_;
-  constructed_ = lastWriteTime_;
 }
 
 void CompensationLoop::requestStop() noexcept {
@@ -150,7 +148,6 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
   }
   adopt(applied);
   tracker_.reset();
-  velocity_.reset();
   lastInputChange_ = now;
   lastSequence_ = sample_.sequence;
   lastPositionMm_ = sample_.positionMm;
@@ -244,7 +241,7 @@ FaultCode CompensationLoop::checkInputs(time_point now, std::array<double, 3>& q
 void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>& qMm, Decision& d,
                                      CycleReport& report) noexcept {
   const model::Directions& directions = tracker_.update(qMm);
-  const ModelOffset result = model_->offset(predictedPosition(qMm, now, readEnd_), directions);
+  const ModelOffset result = model_->offset(qMm, directions);
   if (result.clampedAxes != 0) d.outOfTravel = true;
   if (!allFinite(result.offsetMm)) {
     d.fault = FaultCode::ModelInvalid;
@@ -299,31 +296,6 @@ void CompensationLoop::applyLatch(bool readFailed, Decision& d, CycleReport& rep
   }
 }
 
-// Samples for the velocity estimate: fresh positions only (a life counter that did not move means
-// the controller did not refresh them), and none across a gap, whose slope would be old.
-void CompensationLoop::trackVelocity(time_point readAt, const std::array<double, 3>& qMm,
-                                     bool fresh) noexcept {
-  if (!settings_.latencyCompensation || !fresh) return;
-  if (readAt - lastVelocitySample_ > 4 * settings_.period) velocity_.reset();
-  velocity_.add(seconds(readAt - constructed_), qMm);
-  lastVelocitySample_ = readAt;
-}
-
-std::array<double, 3> CompensationLoop::predictedPosition(const std::array<double, 3>& qMm,
-                                                          time_point readAt,
-                                                          time_point readEnd) const noexcept {
-  if (!settings_.latencyCompensation || !velocity_.valid()) return qMm;
-  const double horizonS = seconds(readEnd - readAt) + seconds(settings_.controllerLatency) +
-                          0.5 * seconds(settings_.period);
-  std::array<double, 3> lo{}, hi{};
-  const auto& travel = model_->travelMm();
-  for (std::size_t k = 0; k < 3; ++k) {
-    lo[k] = travel[k] ? (*travel[k])[0] : -std::numeric_limits<double>::infinity();
-    hi[k] = travel[k] ? (*travel[k])[1] : std::numeric_limits<double>::infinity();
-  }
-  return extrapolate(qMm, velocity_.velocityMmS(), horizonS, lo, hi);
-}
-
 CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFailed,
                                                     CycleReport& report) noexcept {
   Decision d;
@@ -336,10 +308,8 @@ CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFai
     d.fault = FaultCode::TransactionError;
   } else {
     std::array<double, 3> q{};
-    const bool fresh = !sample_.hasSequence || sample_.sequence != lastSequence_;
     d.fault = checkInputs(now, q, d.outOfTravel);
     if (d.fault == FaultCode::None) {
-      trackVelocity(now, q, fresh);
       if (!sample_.enable || !sample_.homed) {
         d.next = LoopState::Disabled;
       } else {
@@ -522,7 +492,6 @@ CycleReport CompensationLoop::step() noexcept {
     if (attempt > 0) ++counters_.lateReads;
     report.error.clear();
     const std::error_code readError = port_.read(sample_);
-    readEnd_ = clock_.now();
     if (readError) {
       report.error = readError;
       if (isLinkError(readError)) {

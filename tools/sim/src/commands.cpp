@@ -109,11 +109,12 @@ Command parseCommand(std::string_view text) {
                               : Command::Kind::Status;
     if (w.size() != 1) throw std::invalid_argument(name + " takes no argument");
   } else {
-    throw std::invalid_argument("unknown command \"" + name +
-                                "\"; expected stall, drop-link, exception, freeze, hold, "
-                                "late-reply, no-reply, pause-client, garble-readback, enable, homed, "
-                                "ack, resume, "
-                                "status or quit");
+    throw std::invalid_argument(
+        "unknown command \"" + name +
+        "\"; expected stall, drop-link, exception, freeze, hold, "
+        "late-reply, no-reply, pause-client, garble-readback, enable, homed, "
+        "ack, resume, "
+        "status or quit");
   }
   return c;
 }

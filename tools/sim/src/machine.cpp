@@ -143,11 +143,10 @@ void Machine::onWrite(double tS, const loop::OffsetCommand& command, bool partia
     const double o = command.offsetMm[k];
     const double q = lim.quantumMm[k];
     const double stepMm = lim.maxRateMmS[k] * (windowS + lim.rateToleranceS);
-    const double allowedMm =
-        controllerChanged_
-            ? stepMm + lim.maxRateMmS[k] * (lim.cycleS + lim.rateToleranceS) +
-                  loop::kReadbackResolutionMm
-            : stepMm;
+    const double allowedMm = controllerChanged_
+                                 ? stepMm + lim.maxRateMmS[k] * (lim.cycleS + lim.rateToleranceS) +
+                                       loop::kReadbackResolutionMm
+                                 : stepMm;
     std::string what;
     if (!std::isfinite(o)) {
       what = "not finite";

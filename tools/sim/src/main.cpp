@@ -118,7 +118,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Fault commands (stdin, one per line, or --event T:COMMAND[:ARG...]): stall [S], "
       "drop-link [S], exception CODE [S], late-reply S [N], no-reply [N], pause-client PID S, "
-      "garble-readback MM [S], freeze [S], hold [S], enable on|off, homed on|off, ack on|off, resume, status, quit.\n"
+      "garble-readback MM [S], freeze [S], hold [S], enable on|off, homed on|off, ack on|off, "
+      "resume, status, quit.\n"
       "CAN: stall and drop-link both make the node silent (socket closed: no input frames, no SYNC "
       "answers, writes not received) and it reopens when they end; taking the interface down "
       "(ip link set DEV down) is outside the simulator. exception, late-reply, no-reply and "

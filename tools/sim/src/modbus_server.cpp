@@ -35,8 +35,8 @@ std::uint16_t word(const std::uint8_t* p) noexcept {
 // Holds the reply for `seconds` (fault injection), in slices so that stop() is not delayed.
 void holdReply(double seconds, const std::atomic<bool>& stopping) noexcept {
   const auto until =
-      std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                             std::chrono::duration<double>(seconds));
+      std::chrono::steady_clock::now() +
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(seconds));
   while (!stopping) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
         until - std::chrono::steady_clock::now());

@@ -26,8 +26,6 @@
 ///     "fault_latch": true,                   faults (but a failed transaction) stay until the
 ///                                            controller acknowledges them
 ///     "service_watchdog_ms": 2000,           the unit's WatchdogSec (config/transport_limits.hpp)
-///     "latency_compensation": {"enabled": false,   evaluate the model where the axes will be
-///                              "controller_latency_ms": 0},  when the offset acts
 ///   * "model": "model.json",                 relative to this file's directory
 ///     "reconnect": {"initial_ms": 100, "max_ms": 2000},
 ///     "log_level": "info",                   trace|debug|info|warn|error|critical|off
@@ -74,8 +72,6 @@ struct DaemonConfig {
   /// compares with this default); a cycle may
   /// block on its transactions for at most half of it (config/transport_limits.hpp).
   double serviceWatchdogMs = 2000.0;
-  bool latencyCompensation = false;
-  double controllerLatencyMs = 0.0;
   std::string modelPath;  ///< resolved against the configuration file's directory
   ReconnectConfig reconnect;
   std::string logLevel = "info";

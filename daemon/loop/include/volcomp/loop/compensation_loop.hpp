@@ -44,7 +44,6 @@
 
 #include "volcomp/loop/compensation_model.hpp"
 #include "volcomp/loop/direction_tracker.hpp"
-#include "volcomp/loop/latency_compensation.hpp"
 #include "volcomp/loop/limiter.hpp"
 #include "volcomp/loop/loop_settings.hpp"
 #include "volcomp/loop/ports.hpp"
@@ -184,9 +183,6 @@ class CompensationLoop {
   Decision decide(time_point now, bool readFailed, CycleReport& report) noexcept;
   void evaluateModel(time_point now, const std::array<double, 3>& qMm, Decision& d,
                      CycleReport& report) noexcept;
-  void trackVelocity(time_point readAt, const std::array<double, 3>& qMm, bool fresh) noexcept;
-  std::array<double, 3> predictedPosition(const std::array<double, 3>& qMm, time_point readAt,
-                                          time_point readEnd) const noexcept;
   void applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept;
   bool readbackOutOfRange() const noexcept;
   std::chrono::nanoseconds readToWriteBound(time_point readAt) const noexcept;
@@ -217,10 +213,6 @@ class CompensationLoop {
   OffsetCommand command_{};
   LimiterState limiter_{};
   DirectionTracker tracker_;
-  VelocityEstimator velocity_;
-  time_point lastVelocitySample_{};
-  time_point constructed_{};  // origin of the velocity samples' times (small doubles)
-  time_point readEnd_{};      // when the read of the cycle returned
   LoopCounters counters_{};
 
   /// Writes with an unknown outcome since the last acknowledged one: the controller applies a

@@ -54,10 +54,6 @@ struct LoopSettings {
   std::chrono::nanoseconds saturationFault = std::chrono::seconds(10);
   /// Latch every fault but a failed transaction until the controller acknowledges it.
   bool faultLatch = true;
-  /// Evaluate the model where the axes will be when the offset acts (latency_compensation.hpp),
-  /// `controllerLatency` being the controller's own delay from the register to the axis.
-  bool latencyCompensation = false;
-  std::chrono::nanoseconds controllerLatency{0};
   std::chrono::nanoseconds reconnectInitial = std::chrono::milliseconds(100);
   std::chrono::nanoseconds reconnectMax = std::chrono::seconds(2);
   /// How long the RECONNECTED and MODEL_RELOADED status bits stay set.

@@ -89,7 +89,7 @@ struct RegisterMap {
   BitRegister homed;                        ///< all axes homed (input)
   /// Fault acknowledge (input), when mapped: a rising edge clears a latched fault.
   std::optional<BitRegister> faultAck;
-  std::optional<WordRegister> sequence;     ///< controller life counter (input)
+  std::optional<WordRegister> sequence;  ///< controller life counter (input)
   /// Offsets the controller currently applies (inputs), when mapped.
   std::optional<std::array<ValueRegister, 3>> appliedOffset;
   std::array<ValueRegister, 3> offset{};  ///< compensation offsets X, Y, Z (holding outputs)

@@ -48,8 +48,8 @@ struct Command {
   Kind kind = Kind::Resume;
   double durationS = 0.0;
   int exceptionCode = 0;
-  int count = 1;  ///< late-reply, no-reply: number of writes
-  int pid = 0;    ///< pause-client
+  int count = 1;         ///< late-reply, no-reply: number of writes
+  int pid = 0;           ///< pause-client
   double valueMm = 0.0;  ///< garble-readback
   bool on = true;
 };

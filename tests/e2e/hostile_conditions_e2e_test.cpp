@@ -16,7 +16,7 @@
 namespace volcomp::e2e {
 namespace {
 
-class Hostile : public ProcessTest {
+class HostileConditions : public ProcessTest {
  protected:
   json simWith(double heartbeatTimeoutMs) const {
     json s = simConfig(exampleFile("vmc-xyfz-21.json"), 0);
@@ -47,7 +47,7 @@ class Hostile : public ProcessTest {
 // heartbeat stays silent, so the controller's watchdog removes the offsets at its own rate), and
 // continues from the read-back once it is inside: its first write is within the band and one
 // step from what is applied.
-TEST_F(Hostile, LeftOverOffsetOutsideTheBandIsNeverTakenOver) {
+TEST_F(HostileConditions, LeftOverOffsetOutsideTheBandIsNeverTakenOver) {
   json s = simWith(300.0);
   s["initial_offset_mm"] = {0.15, 0.01, 0.0};
   const Listening at = startSim(s, {"--port", "0"});
@@ -68,7 +68,7 @@ TEST_F(Hostile, LeftOverOffsetOutsideTheBandIsNeverTakenOver) {
 // While active, the X read-back reports 150 mm for 0.6 s (a garbled reply): fault, nothing
 // written meanwhile (the writes stop), no write past the band ever; afterwards the loop continues
 // from the read-back. With the latch the fault stays until acknowledged (here: enable toggled).
-TEST_F(Hostile, GarbledReadBackWhileActiveWritesNothingAndNeverPastTheBand) {
+TEST_F(HostileConditions, GarbledReadBackWhileActiveWritesNothingAndNeverPastTheBand) {
   const Listening at = startSim(simWith(300.0), {"--port", "0"});
   startDaemon(daemonFor(at));
   ASSERT_TRUE(waitForAppliedOffset(0.003)) << daemonLog();
@@ -95,7 +95,7 @@ TEST_F(Hostile, GarbledReadBackWhileActiveWritesNothingAndNeverPastTheBand) {
 // SIGTERM while the read-back stays garbled: nothing can be written, and the stop ends at its
 // bounded deadline (here 2 x ramp + 1 s of the daemon's own offsets), not after a 300 s ramp from
 // 150 mm; exit 0.
-TEST_F(Hostile, StopWithAGarbledReadBackEndsInBoundedTime) {
+TEST_F(HostileConditions, StopWithAGarbledReadBackEndsInBoundedTime) {
   const Listening at = startSim(simWith(0.0), {"--port", "0"});
   startDaemon(daemonFor(at));
   ASSERT_TRUE(waitForAppliedOffset(0.003)) << daemonLog();
@@ -110,7 +110,7 @@ TEST_F(Hostile, StopWithAGarbledReadBackEndsInBoundedTime) {
 // The configuration's model becomes a FIFO nobody writes to (a model on a hung mount): SIGHUP
 // starts a reload that blocks in open(). SIGTERM must still ramp out, write zero with status 0
 // and exit 0, whatever the reload is doing.
-TEST_F(Hostile, StopRampsOutAndExitsWhileAReloadBlocksOnAFifo) {
+TEST_F(HostileConditions, StopRampsOutAndExitsWhileAReloadBlocksOnAFifo) {
   const Listening at = startSim(simWith(0.0), {"--port", "0"});
   json d = daemonFor(at);
   startDaemon(d);

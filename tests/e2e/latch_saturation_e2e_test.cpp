@@ -5,6 +5,7 @@
 // - the fault latch: a stale-input fault stays (FAULT + LATCHED, offsets at zero) after its cause
 //   is gone, until the controller acknowledges it with its fault-ack bit.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -148,6 +149,47 @@ TEST_F(LatchSaturation, LatchedFaultStaysUntilTheControllerAcknowledges) {
   EXPECT_EQ(largestAbs(rows[end - 1].offsetMm), 0.0);
   EXPECT_TRUE(rows.back().status & kActive);
   EXPECT_FALSE(rows.back().status & kLatched);
+}
+
+// Per-axis limits on both sides: the example model x8 asks for more than each axis's band; every
+// write stays inside its axis's band and moves each axis no faster than its own rate, per the
+// simulator (which knows the same per-axis limits) and per the test's own check of the record.
+TEST_F(LatchSaturation, PerAxisLimitsHoldOnTheWire) {
+  configure(writeJson("model-x8.json", scaledModel(example("vmc-xyfz-21.json"), 8.0)), 0.030);
+  const json maxOffset = {{"X", 0.030}, {"Y", 0.020}, {"Z", 0.010}};
+  const json maxRate = {{"X", 0.05}, {"Y", 0.03}, {"Z", 0.02}};
+  sim_cfg_["limits"]["max_offset_mm"] = maxOffset;
+  sim_cfg_["limits"]["max_rate_mm_s"] = maxRate;
+  const Listening at = startSim(sim_cfg_, {"--port", "0"});
+  json d = daemonFor(at);
+  d["limiter"]["max_offset_mm"] = maxOffset;
+  d["limiter"]["max_rate_mm_s"] = maxRate;
+  d["limiter"]["saturation_fault_ms"] = 0;
+  startDaemon(d);
+  ASSERT_TRUE(waitForMoreWrites(*sim_, 200)) << daemonLog();
+  const json report = finishSim();
+  stopDaemon();
+  EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
+  const auto rows = record();
+  ASSERT_GT(rows.size(), 150U);
+  const char* names[] = {"X", "Y", "Z"};
+  bool reachedABand = false;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double band = maxOffset[names[k]].get<double>();
+    const double step = maxRate[names[k]].get<double>() * 0.010 + kQuantumMm + 1e-9;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      largest = std::max(largest, std::abs(rows[i].offsetMm[k]));
+      ASSERT_LE(std::abs(rows[i].offsetMm[k]), band + 0.5 * kQuantumMm + 1e-9)
+          << names[k] << " write " << i;
+      if (i > 0) {
+        ASSERT_LE(std::abs(rows[i].offsetMm[k] - rows[i - 1].offsetMm[k]), step)
+            << names[k] << " write " << i;
+      }
+    }
+    if (largest >= band - kQuantumMm) reachedABand = true;
+  }
+  EXPECT_TRUE(reachedABand) << "no axis reached its own band";
 }
 
 }  // namespace

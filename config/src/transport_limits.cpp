@@ -179,11 +179,14 @@ double readbackCountMm(const TransportSettings& transport) noexcept {
 void checkTransportLimits(const DaemonConfig& c) {
   std::visit(
       [&](const auto& settings) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(settings)>, modbus::ModbusSettings>) {
+        using T = std::decay_t<decltype(settings)>;
+        if constexpr (std::is_same_v<T, modbus::ModbusSettings>) {
           checkModbus(c, settings);
-        } else {
+        } else if constexpr (std::is_same_v<T, can::CanLayout>) {
           checkCan(c, settings);
         }
+        // LinuxCNC HAL pins carry doubles and the cycle does not block on a peer: nothing to
+        // check.
       },
       c.transport);
 }

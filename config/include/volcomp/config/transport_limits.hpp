@@ -2,6 +2,7 @@
 /// What a daemon configuration must satisfy between its limiter and its transport, checked when
 /// the file is read (start, --check-config and every reload), each with a ConfigError naming the
 /// key path:
+/// (Modbus and CAN; LinuxCNC HAL pins are doubles and need neither check)
 /// - every offset output and applied-offset read-back holds +-max_offset_mm of its axis (an
 ///   int16 at 10^6 counts/mm holds +-0.033 mm; an unsigned register holds no negative offset);
 /// - the longest a cycle can block on its transactions (Modbus: transactions per cycle x

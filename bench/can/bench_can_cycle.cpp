@@ -169,8 +169,7 @@ void canCycle(benchmark::State& state, bool sync) {
       return;
     }
     volcomp::loop::LoopSettings settings;
-    settings.limiter.maxOffsetMm = 0.1;
-    settings.limiter.maxRateMmS = 0.5;
+    settings.limiter = volcomp::loop::LimiterSettings::uniform(0.1, 0.5);
     port = std::make_unique<volcomp::can::CanControllerPort>(layout);
     loop = std::make_unique<volcomp::loop::CompensationLoop>(
         *port, clock, volcomp::daemon::loadCompensationModel(dataDir() + "/vmc-xyfz-21.json"),

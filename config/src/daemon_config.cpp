@@ -1,10 +1,12 @@
 #include "volcomp/config/daemon_config.hpp"
 
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
 
 #include "volcomp/config/json_reader.hpp"
+#include "volcomp/config/transport_limits.hpp"
 
 namespace volcomp::config {
 namespace {
@@ -22,6 +24,18 @@ double positiveNumber(const JsonReader& value, double max) {
   return v;
 }
 
+// A per-axis limit: one number for every axis, or {"X": x, "Y": y, "Z": z}. `read` checks one
+// number and returns it.
+template <typename Read>
+std::array<double, 3> perAxis(const JsonReader& value, Read&& read) {
+  if (!value.isObject()) {
+    const double v = read(value);
+    return {v, v, v};
+  }
+  value.allowOnly({"X", "Y", "Z"});
+  return {read(value.at("X")), read(value.at("Y")), read(value.at("Z"))};
+}
+
 std::string resolveAgainst(const std::string& file, const std::string& relative) {
   const std::filesystem::path p(relative);
   if (p.is_absolute()) return p.lexically_normal().string();
@@ -34,8 +48,9 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
   const JsonReader root(document, file);
   root.allowOnly({"cycle_period_ms", "position_semantics", "limiter", "stale_timeout_ms",
                   "frozen_positions_are_stale", "travel_margin_mm", "direction_hysteresis_mm",
-                  "offset_readback", "plc_zero_after_ms", "model", "reconnect", "log_level",
-                  "transport"});
+                  "offset_readback", "plc_zero_after_ms", "plc_heartbeat_timeout_ms",
+                  "read_to_write_max_ms", "fault_latch", "service_watchdog_ms", "model",
+                  "reconnect", "log_level", "transport"});
   DaemonConfig c;
   c.file = file;
   if (auto v = root.find("cycle_period_ms")) c.cyclePeriodMs = v->number(1.0, 1000.0);
@@ -44,10 +59,26 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
                             : loop::PositionSemantics::Commanded;
 
   const JsonReader limiter = root.at("limiter");
-  limiter.allowOnly({"max_offset_mm", "max_rate_mm_s", "max_accel_mm_s2"});
-  c.limiter.maxOffsetMm = positiveNumber(limiter.at("max_offset_mm"), 100.0);
-  c.limiter.maxRateMmS = positiveNumber(limiter.at("max_rate_mm_s"), 1000.0);
-  if (auto v = limiter.find("max_accel_mm_s2")) c.limiter.maxAccelMmS2 = v->number(0.0, 1e6);
+  limiter.allowOnly({"max_offset_mm", "max_rate_mm_s", "max_accel_mm_s2", "saturation_warning_ms",
+                     "saturation_fault_ms"});
+  const auto offsets = perAxis(limiter.at("max_offset_mm"),
+                               [](const JsonReader& v) { return positiveNumber(v, 100.0); });
+  const auto rates = perAxis(limiter.at("max_rate_mm_s"),
+                             [](const JsonReader& v) { return positiveNumber(v, 1000.0); });
+  std::array<double, 3> accels{};
+  if (auto v = limiter.find("max_accel_mm_s2")) {
+    accels = perAxis(*v, [](const JsonReader& e) { return e.number(0.0, 1e6); });
+  }
+  for (std::size_t k = 0; k < 3; ++k) c.limiter.axes[k] = {offsets[k], rates[k], accels[k]};
+  if (auto v = limiter.find("saturation_warning_ms")) c.saturationWarningMs = v->number(0.0, 3.6e6);
+  if (auto v = limiter.find("saturation_fault_ms")) {
+    c.saturationFaultMs = v->number(0.0, 3.6e6);
+    if (c.saturationFaultMs > 0.0 && c.saturationFaultMs < c.saturationWarningMs) {
+      v->failExpected("0 (no fault) or a time not shorter than limiter.saturation_warning_ms (" +
+                      shortNumber(c.saturationWarningMs) + " ms)");
+    }
+  }
+  c.faultLatch = root.booleanOr("fault_latch", true);
 
   if (auto v = root.find("stale_timeout_ms")) {
     c.staleTimeoutMs = v->number(0.0, 60000.0);
@@ -68,6 +99,26 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
   if (auto v = root.find("plc_zero_after_ms")) c.plcZeroAfterMs = positiveNumber(*v, 600000.0);
   if (!c.offsetReadback && !c.plcZeroAfterMs) {
     root.at("plc_zero_after_ms");  // throws "missing required key" at that path
+  }
+
+  // The PLC's heartbeat watchdog bounds how long a read-back stays true: a write must leave
+  // before the PLC may have started removing the offsets it read.
+  c.plcHeartbeatTimeoutMs = 5.0 * c.cyclePeriodMs;
+  if (auto v = root.find("plc_heartbeat_timeout_ms")) {
+    c.plcHeartbeatTimeoutMs = v->number(0.0, 600000.0);
+    if (!(c.plcHeartbeatTimeoutMs > 2.0 * c.cyclePeriodMs)) {
+      v->failExpected("a timeout longer than two cycle periods (" +
+                      shortNumber(2.0 * c.cyclePeriodMs) + " ms)");
+    }
+  }
+  c.readToWriteMaxMs = c.plcHeartbeatTimeoutMs / 2.0;
+  if (auto v = root.find("read_to_write_max_ms")) {
+    c.readToWriteMaxMs = positiveNumber(*v, 600000.0);
+    if (c.readToWriteMaxMs + c.cyclePeriodMs >= c.plcHeartbeatTimeoutMs) {
+      v->failExpected("less than plc_heartbeat_timeout_ms - cycle_period_ms (" +
+                      shortNumber(c.plcHeartbeatTimeoutMs - c.cyclePeriodMs) +
+                      " ms): the PLC could remove the offsets between a read and its write");
+    }
   }
 
   const JsonReader model = root.at("model");
@@ -91,7 +142,9 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
     c.logLevel = v->oneOf({"trace", "debug", "info", "warn", "error", "critical", "off"});
   }
 
+  if (auto v = root.find("service_watchdog_ms")) c.serviceWatchdogMs = positiveNumber(*v, 3.6e6);
   c.transport = parseTransportSettings(root.at("transport").json(), file, "transport");
+  checkTransportLimits(c);
   return c;
 }
 

@@ -127,6 +127,7 @@ struct Field {
   int start;
   int width;
   int axis = -1;
+  int bit = -1;  // Flag: the bit it uses
   const char* tableName() const { return table == RegisterTable::Input ? "input" : "holding"; }
 };
 
@@ -137,8 +138,12 @@ std::vector<Field> collectFields(const RegisterMap& m) {
     f.push_back({std::string("position.") + kAxisNames[i], FieldKind::Position, p.table, p.address,
                  modbus::registerWidth(p.format.type), i});
   }
-  f.push_back({"enable", FieldKind::Flag, m.enable.table, m.enable.address, 1});
-  f.push_back({"homed", FieldKind::Flag, m.homed.table, m.homed.address, 1});
+  f.push_back({"enable", FieldKind::Flag, m.enable.table, m.enable.address, 1, -1, m.enable.bit});
+  f.push_back({"homed", FieldKind::Flag, m.homed.table, m.homed.address, 1, -1, m.homed.bit});
+  if (m.faultAck) {
+    f.push_back({"fault_ack", FieldKind::Flag, m.faultAck->table, m.faultAck->address, 1, -1,
+                 m.faultAck->bit});
+  }
   if (m.sequence)
     f.push_back({"sequence", FieldKind::Sequence, m.sequence->table, m.sequence->address, 1});
   if (m.appliedOffset) {
@@ -163,9 +168,8 @@ std::string joinPath(const std::string& base, const std::string& rel) {
 }
 
 bool overlapAllowed(const Field& a, const Field& b, const RegisterMap& m) {
-  if (a.kind == FieldKind::Flag && b.kind == FieldKind::Flag) {
-    return m.enable.bit != m.homed.bit;
-  }
+  // Flags may share a register, each on its own bit (checked separately, with its own message).
+  if (a.kind == FieldKind::Flag && b.kind == FieldKind::Flag) return true;
   const bool appliedVsOutput = (a.kind == FieldKind::Applied && b.kind == FieldKind::Output) ||
                                (a.kind == FieldKind::Output && b.kind == FieldKind::Applied);
   if (appliedVsOutput && a.axis >= 0 && a.axis == b.axis) {
@@ -198,10 +202,16 @@ void validateModbusRegisterMap(const RegisterMap& m, const std::string& file,
                         "registers only)");
     }
   }
-  if (m.enable.table == m.homed.table && m.enable.address == m.homed.address &&
-      m.enable.bit == m.homed.bit) {
-    throw ConfigError(file, joinPath(keyPath, "homed.bit"),
-                      "enable and homed use the same bit of the same register");
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    for (std::size_t j = i + 1; j < fields.size(); ++j) {
+      const Field& a = fields[i];
+      const Field& b = fields[j];
+      if (a.kind == FieldKind::Flag && b.kind == FieldKind::Flag && a.table == b.table &&
+          a.start == b.start && a.bit == b.bit) {
+        throw ConfigError(file, joinPath(keyPath, b.name + ".bit"),
+                          a.name + " and " + b.name + " use the same bit of the same register");
+      }
+    }
   }
   for (std::size_t i = 0; i < fields.size(); ++i) {
     for (std::size_t j = i + 1; j < fields.size(); ++j) {
@@ -267,14 +277,15 @@ void validateModbusRegisterMap(const RegisterMap& m, const std::string& file,
 RegisterMap parseModbusRegisterMap(const nlohmann::json& registers, const std::string& file,
                                    const std::string& keyPath) {
   const JsonReader r(registers, file, keyPath);
-  r.allowOnly({"fc23", "defaults", "position", "enable", "homed", "sequence", "applied_offset",
-               "offset", "status", "heartbeat"});
+  r.allowOnly({"fc23", "defaults", "position", "enable", "homed", "fault_ack", "sequence",
+               "applied_offset", "offset", "status", "heartbeat"});
   const ValueDefaults d = parseDefaults(r);
   RegisterMap m;
   m.fc23 = r.booleanOr("fc23", false);
   m.position = parseAxes(r.at("position"), d);
   m.enable = parseBit(r.at("enable"));
   m.homed = parseBit(r.at("homed"));
+  if (auto a = r.find("fault_ack")) m.faultAck = parseBit(*a);
   if (auto s = r.find("sequence")) m.sequence = parseWord(*s);
   if (auto a = r.find("applied_offset")) m.appliedOffset = parseAxes(*a, d);
   m.offset = parseAxes(r.at("offset"), d);

@@ -1,6 +1,7 @@
 #include "volcomp/config/model_file.hpp"
 
 #include "model_file_parts.hpp"
+#include "volcomp/config/model_finite.hpp"
 
 namespace volcomp::config {
 
@@ -30,6 +31,7 @@ ModelDocument parseModel(const nlohmann::json& document, const std::string& file
   } catch (const model::ModelError& e) {
     throw ConfigError(file, "", std::string("the model library rejected the model: ") + e.what());
   }
+  checkModelFinite(doc);
   return doc;
 }
 

@@ -1,5 +1,6 @@
 #include "volcomp/daemon/configuration.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -10,6 +11,7 @@
 #include "volcomp/config/calibration_record.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/config/transport_limits.hpp"
 
 namespace volcomp::daemon {
 namespace {
@@ -81,6 +83,13 @@ loop::LoopSettings loopSettingsFrom(const config::DaemonConfig& c) noexcept {
   s.directionHysteresisMm = c.directionHysteresisMm;
   s.offsetReadback = c.offsetReadback;
   s.plcZeroAfter = fromMs(c.plcZeroAfterMs.value_or(0.0));
+  s.readToWriteMax = fromMs(c.readToWriteMaxMs);
+  s.saturationWarning = fromMs(c.saturationWarningMs);
+  s.saturationFault = fromMs(c.saturationFaultMs);
+  s.faultLatch = c.faultLatch;
+  // A read-back of what was written may differ by one count of its register.
+  s.readbackResolutionMm =
+      std::max(loop::kReadbackResolutionMm, config::readbackCountMm(c.transport));
   s.reconnectInitial = fromMs(c.reconnect.initialMs);
   s.reconnectMax = fromMs(c.reconnect.maxMs);
   return s;

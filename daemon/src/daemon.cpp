@@ -5,6 +5,7 @@
 
 #include <asio/post.hpp>
 #include <exception>
+#include <thread>
 #include <utility>
 
 #include "volcomp/config/config_error.hpp"
@@ -44,7 +45,17 @@ Daemon::Daemon(asio::io_context& io, loop::ControllerPort& port, WaitableClock& 
       onFinished_(std::move(onFinished)) {}
 
 Daemon::~Daemon() {
-  if (reloadThread_.joinable()) reloadThread_.join();
+  abandonReload();
+}
+
+// A reload's helper thread is detached: a load blocked on file I/O (a hung mount, a FIFO as the
+// model path) must never hold a stop or the next reload. Once abandoned it hands nothing back;
+// whatever it loads is dropped when it finishes, if ever.
+void Daemon::abandonReload() {
+  if (!reload_) return;
+  std::lock_guard lock(reload_->mutex);
+  reload_->abandoned = true;
+  reload_.reset();
 }
 
 void Daemon::start() {
@@ -72,29 +83,49 @@ void Daemon::requestStop() {
 }
 
 void Daemon::requestReload() {
+  if (stopping_) return;
   if (reloading_) {
-    spdlog::warn("reload requested while one is in progress; ignored");
+    reloadAgain_ = true;
+    spdlog::warn(
+        "reload requested while one is in progress (for {:.1f} s): it follows that one",
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - reloadStarted_).count());
     return;
   }
-  if (stopping_) return;
   reloading_ = true;
+  reloadAgain_ = false;
+  reloadStarted_ = std::chrono::steady_clock::now();
   spdlog::info("reloading configuration and model");
   notifier_.notify("RELOADING=1\nMONOTONIC_USEC=" + monotonicUsec());
-  if (reloadThread_.joinable()) reloadThread_.join();
-  reloadThread_ = std::thread([this] {
+  auto job = std::make_shared<ReloadJob>();
+  reload_ = job;
+  std::thread([job, loader = reloadLoader_, io = &io_, this] {
     std::shared_ptr<LoadedConfiguration> loaded;
     std::string error;
     try {
-      loaded = std::make_shared<LoadedConfiguration>(reloadLoader_());
+      loaded = std::make_shared<LoadedConfiguration>(loader());
     } catch (const std::exception& e) {
       error = e.what();
     }
-    asio::post(io_, [this, loaded, error] { finishReload(loaded, error); });
-  });
+    std::lock_guard lock(job->mutex);
+    if (job->abandoned) return;
+    asio::post(*io, [this, job, loaded, error] {
+      if (!job->abandoned) finishReload(loaded, error);
+    });
+  }).detach();
+}
+
+// A reload that has not finished after reloadTimeout_ is given up (its thread may be blocked on
+// file I/O for ever): the running model stays, RELOAD_FAILED is set, and reloads work again.
+void Daemon::checkReloadTimeout() {
+  if (!reloading_ || std::chrono::steady_clock::now() - reloadStarted_ < reloadTimeout_) return;
+  abandonReload();
+  finishReload(nullptr,
+               fmt::format("not finished after {:.1f} s (a file blocked on I/O?); abandoned",
+                           std::chrono::duration<double>(reloadTimeout_).count()));
 }
 
 void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::string error) {
-  if (reloadThread_.joinable()) reloadThread_.join();
+  reload_.reset();
   reloading_ = false;
   if (!loaded) {
     reloadError_ = error.empty() ? std::string("unknown error") : error;
@@ -128,6 +159,10 @@ void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::stri
   }
   // A reload ends with READY=1 either way: the service keeps running.
   if (ready_) notifier_.notify("READY=1");
+  if (reloadAgain_ && !stopping_) {
+    reloadAgain_ = false;
+    asio::post(io_, [this] { requestReload(); });
+  }
 }
 
 bool Daemon::cycle() {
@@ -138,6 +173,7 @@ bool Daemon::cycle() {
     // At most one per backoff step (100 ms .. 2 s), so not a per-cycle line.
     spdlog::debug("reconnect failed: {}", report.error.message());
   }
+  logEvents(report);
   if (report.goodCycle && !ready_) {
     ready_ = true;
     notifier_.notify("READY=1");
@@ -146,11 +182,15 @@ bool Daemon::cycle() {
   const loop::Clock::time_point now = clock_.now();
   if (report.state == LoopState::Finished) {
     finished_ = true;
+    abandonReload();
     notifier_.notify("STATUS=stopped");
-    spdlog::info("stopped after {} cycles ({} overruns); latest start {} us after its deadline",
-                 loop_.counters().cycles, scheduler_.overruns(),
-                 std::chrono::duration_cast<std::chrono::microseconds>(scheduler_.maxWakeLateness())
-                     .count());
+    spdlog::info(
+        "stopped after {} cycles ({} overruns); {} late reads, {} unknown write "
+        "outcomes; latest start {} us after its deadline",
+        loop_.counters().cycles, scheduler_.overruns(), loop_.counters().lateReads,
+        loop_.counters().unknownOutcomes,
+        std::chrono::duration_cast<std::chrono::microseconds>(scheduler_.maxWakeLateness())
+            .count());
     if (onFinished_) asio::post(io_, onFinished_);
     return false;
   }
@@ -158,22 +198,71 @@ bool Daemon::cycle() {
   return true;
 }
 
+// Events of a cycle that are not state changes, each logged once when it starts (never per
+// cycle): the saturation warning, an acknowledged latch, the first write withheld in a row.
+void Daemon::logEvents(const CycleReport& report) {
+  if (report.saturationAxis >= 0) {
+    const auto k = static_cast<std::size_t>(report.saturationAxis);
+    spdlog::warn(
+        "limiter: the clamp has held axis {} for {:.1f} s: the model asks for {:+.4f} mm, "
+        "max_offset_mm is {:.4f} (status SATURATED{})",
+        "XYZ"[k], std::chrono::duration<double>(loop_.settings().saturationWarning).count(),
+        report.saturationRequestedMm, loop_.settings().limiter.axes[k].maxOffsetMm,
+        loop_.settings().saturationFault.count() > 0
+            ? fmt::format("; fault sustained-limit after {:.1f} s",
+                          std::chrono::duration<double>(loop_.settings().saturationFault).count())
+            : std::string());
+  }
+  if (report.acknowledged) spdlog::info("latched fault acknowledged by the controller");
+  if (report.unknownOutcome) {
+    spdlog::debug("write failed on a live link ({}): the controller may have applied it",
+                  report.error.message());
+  }
+  if (report.withheld != loop::Withheld::None && report.withheld != lastWithheld_ &&
+      report.withheld != loop::Withheld::ReadbackOutOfRange) {
+    spdlog::warn("cycle wrote nothing: {}", report.withheld == loop::Withheld::StaleRead
+                                                ? "its reads were older than read_to_write_max_ms "
+                                                  "when the write was due (process stopped or "
+                                                  "starved, or a slow controller)"
+                                                : "no value within one step of every value the "
+                                                  "controller may apply after a failed write");
+  }
+  lastWithheld_ = report.withheld;
+}
+
+std::string Daemon::readbackText() const {
+  const auto& s = loop_.lastSample();
+  return fmt::format("applied offsets read back {:+.4f} {:+.4f} {:+.4f} mm, outside +-max_offset",
+                     s.appliedOffsetMm[0], s.appliedOffsetMm[1], s.appliedOffsetMm[2]);
+}
+
 void Daemon::logReport(const CycleReport& report) {
   lastLoggedFault_ = report.fault;
   const std::string_view from = loop::stateName(report.previous);
   const std::string_view to = loop::stateName(report.state);
-  const std::string error = report.error ? report.error.message() : std::string();
+  std::string error = report.error ? report.error.message() : std::string();
+  if (report.fault == FaultCode::ReadbackOutOfRange) {
+    error = readbackText() +
+            "; nothing is written while it is (the controller's heartbeat "
+            "watchdog removes them)";
+  }
+  const char* latched = loop_.latchedFault() != FaultCode::None
+                            ? " (latched: stays until the controller acknowledges it)"
+                            : "";
   switch (report.state) {
     case LoopState::Fault:
-      spdlog::warn("{} -> fault: {}{}{}", from, loop::faultName(report.fault),
-                   error.empty() ? "" : ": ", error);
+      spdlog::warn("{} -> fault: {}{}{}{}", from, loop::faultName(report.fault),
+                   error.empty() ? "" : ": ", error, latched);
       break;
     case LoopState::LinkLost:
       spdlog::warn("{} -> link lost{}{}; reconnecting with backoff", from,
                    error.empty() ? "" : ": ", error);
       break;
     case LoopState::Starting:
-      if (report.fault != FaultCode::None) {
+      if (report.fault == FaultCode::ReadbackOutOfRange) {
+        spdlog::warn("starting: {} ({}); waiting for offsets inside the band", readbackText(),
+                     loop::faultName(report.fault));
+      } else if (report.fault != FaultCode::None) {
         spdlog::warn("starting: applied offsets read back are invalid ({})",
                      loop::faultName(report.fault));
       } else {
@@ -194,6 +283,14 @@ std::string Daemon::statusLine() const {
       loop::stateName(loop_.state()), cycleRateHz_, o[0], o[1], o[2],
       loop::faultName(loop_.fault()), loop_.counters().faultCycles, scheduler_.overruns(),
       loop_.counters().linkLosses, loop_.model().name());
+  if (loop_.latchedFault() != FaultCode::None) {
+    line += fmt::format(", latched {} (acknowledge)", loop::faultName(loop_.latchedFault()));
+  }
+  const loop::LoopCounters& counts = loop_.counters();
+  if (counts.unknownOutcomes + counts.lateReads + counts.withheldWrites > 0) {
+    line += fmt::format(", unknown write outcomes {}, late reads {}, writes withheld {}",
+                        counts.unknownOutcomes, counts.lateReads, counts.withheldWrites);
+  }
   if (!reloadError_.empty()) line += ", reload failed: " + reloadError_;
   // One line: a newline would start a new sd_notify assignment.
   for (char& c : line) {
@@ -203,6 +300,7 @@ std::string Daemon::statusLine() const {
 }
 
 void Daemon::notifyPeriodic(loop::Clock::time_point now) {
+  checkReloadTimeout();
   if (watchdog_ && now - lastWatchdog_ >= *watchdog_ / 4) {
     notifier_.notify("WATCHDOG=1");
     lastWatchdog_ = now;
@@ -221,6 +319,14 @@ void Daemon::notifyPeriodic(loop::Clock::time_point now) {
                    std::chrono::duration<double>(sinceStatus).count(),
                    scheduler_.missedDeadlines());
       overrunsAtLastStatus_ = overruns;
+    }
+    const std::uint64_t lateReads = loop_.counters().lateReads;
+    if (lateReads != lateReadsAtLastStatus_) {
+      spdlog::warn(
+          "{} late reads in the last {:.1f} s: a read was older than read_to_write_max_ms when its "
+          "write was due (process stopped or starved, or a slow controller); read again",
+          lateReads - lateReadsAtLastStatus_, std::chrono::duration<double>(sinceStatus).count());
+      lateReadsAtLastStatus_ = lateReads;
     }
     notifier_.notify("STATUS=" + statusLine());
     if (loop_.state() == LoopState::Starting && loop_.settings().offsetReadback &&

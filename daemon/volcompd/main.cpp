@@ -104,6 +104,9 @@ int run(const std::string& configPath, bool checkOnly, bool verbose) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A reader of stderr that goes away (journald restarting, a closed pipe) must not kill the
+  // daemon with offsets applied: writes then fail with EPIPE, which logging ignores.
+  std::signal(SIGPIPE, SIG_IGN);
   setUpLogging();
   CLI::App app{"volcompd: live volumetric error compensation daemon"};
   std::string configPath;

@@ -90,10 +90,10 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
   sim::ErrorFunction trueError = sim::loadTrueError(modelFile(), &travel);
   sim::MachineOptions options;
   options.semantics = param.semantics;
-  options.limits.maxOffsetMm = 0.5;
+  options.limits.maxOffsetMm = {0.5, 0.5, 0.5};
   // A realistic slew limit (the model offset changes by ~0.01 mm/s at this feed): an isolated
   // fault cycle (a late answer in the emulated guest) then removes only a few µm of offset.
-  options.limits.maxRateMmS = 0.2;
+  options.limits.maxRateMmS = {0.2, 0.2, 0.2};
   // The daemon limits the change per cycle with the nominal period; the simulator measures it
   // with the arrival times it sees, which jitter by up to a period in an emulated guest.
   options.limits.rateToleranceS = 0.010;
@@ -133,8 +133,7 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
   loop::LoopSettings settings;
   // SYNC waits for the answer inside the cycle: a longer period leaves room for an emulated guest.
   settings.period = param.sync ? 20ms : 10ms;
-  settings.limiter.maxOffsetMm = 0.5;
-  settings.limiter.maxRateMmS = 0.2;
+  settings.limiter = volcomp::loop::LimiterSettings::uniform(0.5, 0.2);
   settings.staleTimeout = 200ms;
   settings.offsetReadback = true;
   settings.semantics = param.semantics;

@@ -79,5 +79,19 @@ TEST(CliCheck, CalibrationTemplatesNeedTheTemplateFlag) {
   expectContains(templ.out, "components.EXX: {\"kind\":\"table\"}");
 }
 
+// A model that evaluates to infinity in its travel is invalid: status 2, one line naming the
+// component, not "peak |value| inf" and status 0.
+TEST(CliCheck, RefusesAModelThatEvaluatesToInfinity) {
+  TempDir dir;
+  const std::string model = dir.write("m.json", R"({"format": "volcomp-model/1",
+    "topology": "XYFZ", "travel": {"X": [0, 850]}, "error_units": {"length": "um", "angle": "urad"},
+    "components": {"EXX": {"polynomial": [0, 0, 0, 0, 1e300]}}})");
+  const CliRun run = runCli(dir, "check " + quoted(model));
+  EXPECT_EQ(run.status, 2) << run.out;
+  expectContains(run.err, "components.EXX");
+  expectContains(run.err, "not finite");
+  EXPECT_EQ(run.out.find("inf"), std::string::npos) << run.out;
+}
+
 }  // namespace
 }  // namespace volcomp::testing

@@ -57,6 +57,23 @@ TEST(ModelFileRejects, MissingFile) {
   }
 }
 
+// A polynomial whose value overflows the double range inside the travel (1e306 um/mm^2 beyond
+// X = 424 mm): the model would evaluate to infinity. Refused, naming the component and where.
+TEST(ModelFileRejects, ModelThatEvaluatesToInfinity) {
+  expectRejected(R"({"format": "volcomp-model/1", "topology": "FXYZ", "travel": {"X": [0, 1000]},
+    "error_units": {"length": "um", "angle": "urad"},
+    "components": {"EXX": {"polynomial": [0, 0, 1e306]}}})",
+                 "components.EXX", "the model's error is not finite at X ");
+  // Two grids each within the double range whose sum is not.
+  expectRejected(R"({"format": "volcomp-model/1", "topology": "FXYZ",
+    "error_units": {"length": "mm", "angle": "rad"}, "grids": [
+      {"component": "EX", "over": ["X", "Y"], "axes": {"X": [0, 1], "Y": [0, 1]},
+       "values": [[1e308, 1e308], [1e308, 1e308]]},
+      {"component": "EX", "over": ["X", "Y"], "axes": {"X": [0, 1], "Y": [0, 1]},
+       "values": [[1e308, 1e308], [1e308, 1e308]]}]})",
+                 "grids", "not finite");
+}
+
 TEST(ModelFileRejects, MalformedJsonWithLineAndColumn) {
   expectRejected("{\n  \"format\": \"volcomp-model/1\",\n  \"topology\": FXYZ\n}", "",
                  "invalid JSON: parse error at line 3, column");

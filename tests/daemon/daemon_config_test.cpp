@@ -64,9 +64,11 @@ TEST(DaemonConfig, MinimalFileGetsTheDefaults) {
   EXPECT_EQ(c.file, "/etc/volcomp/daemon.json");
   EXPECT_DOUBLE_EQ(c.cyclePeriodMs, 10.0);
   EXPECT_EQ(c.positionSemantics, PositionSemantics::Commanded);
-  EXPECT_DOUBLE_EQ(c.limiter.maxOffsetMm, 0.5);
-  EXPECT_DOUBLE_EQ(c.limiter.maxRateMmS, 1.0);
-  EXPECT_DOUBLE_EQ(c.limiter.maxAccelMmS2, 0.0);
+  for (const loop::AxisLimits& axis : c.limiter.axes) {
+    EXPECT_DOUBLE_EQ(axis.maxOffsetMm, 0.5);
+    EXPECT_DOUBLE_EQ(axis.maxRateMmS, 1.0);
+    EXPECT_DOUBLE_EQ(axis.maxAccelMmS2, 0.0);
+  }
   EXPECT_DOUBLE_EQ(c.staleTimeoutMs, 500.0);
   EXPECT_FALSE(c.frozenPositionsAreStale);
   EXPECT_DOUBLE_EQ(c.travelMarginMm, 1.0);
@@ -96,7 +98,7 @@ TEST(DaemonConfig, EveryKeyIsRead) {
   const DaemonConfig c = parseDaemonConfig(doc, "conf/d.json");
   EXPECT_DOUBLE_EQ(c.cyclePeriodMs, 4.0);
   EXPECT_EQ(c.positionSemantics, PositionSemantics::Actual);
-  EXPECT_DOUBLE_EQ(c.limiter.maxAccelMmS2, 50.0);
+  for (const loop::AxisLimits& axis : c.limiter.axes) EXPECT_DOUBLE_EQ(axis.maxAccelMmS2, 50.0);
   EXPECT_DOUBLE_EQ(c.staleTimeoutMs, 40.0);
   EXPECT_TRUE(c.frozenPositionsAreStale);
   EXPECT_DOUBLE_EQ(c.travelMarginMm, 0.5);
@@ -206,6 +208,58 @@ TEST(DaemonConfig, RejectsInconsistentCombinations) {
   doc = minimal();
   doc["offset_readback"] = false;
   expectError(doc, "plc_zero_after_ms", "missing");
+}
+
+TEST(DaemonConfig, LimitsPerAxis) {
+  json doc = minimal();
+  doc["limiter"] = json::parse(R"({"max_offset_mm": {"X": 0.1, "Y": 0.2, "Z": 0.05},
+    "max_rate_mm_s": 0.5, "max_accel_mm_s2": {"X": 10, "Y": 20, "Z": 0}})");
+  const DaemonConfig c = parseDaemonConfig(doc, "d.json");
+  EXPECT_EQ(c.limiter.axes[0], (loop::AxisLimits{0.1, 0.5, 10.0}));
+  EXPECT_EQ(c.limiter.axes[1], (loop::AxisLimits{0.2, 0.5, 20.0}));
+  EXPECT_EQ(c.limiter.axes[2], (loop::AxisLimits{0.05, 0.5, 0.0}));
+  doc["limiter"]["max_rate_mm_s"] = {{"X", 1}, {"Y", 1}};
+  expectError(doc, "limiter.max_rate_mm_s.Z", "missing");
+  doc["limiter"]["max_rate_mm_s"] = {{"X", 1}, {"Y", 1}, {"Z", 1}, {"A", 1}};
+  expectError(doc, "limiter.max_rate_mm_s.A", "unknown key");
+  doc["limiter"]["max_rate_mm_s"] = {{"X", 1}, {"Y", 0}, {"Z", 1}};
+  expectError(doc, "limiter.max_rate_mm_s.Y", "(0, 1000]");
+}
+
+TEST(DaemonConfig, TimingSafetyKeysAndTheirDefaults) {
+  DaemonConfig c = parseDaemonConfig(minimal(), "d.json");
+  // The PLC's heartbeat timeout defaults to five periods, the read-to-write bound to half of it.
+  EXPECT_DOUBLE_EQ(c.plcHeartbeatTimeoutMs, 50.0);
+  EXPECT_DOUBLE_EQ(c.readToWriteMaxMs, 25.0);
+  EXPECT_DOUBLE_EQ(c.saturationWarningMs, 1000.0);
+  EXPECT_DOUBLE_EQ(c.saturationFaultMs, 10000.0);
+  EXPECT_TRUE(c.faultLatch);
+  json doc = minimal();
+  doc["plc_heartbeat_timeout_ms"] = 300;
+  doc["limiter"]["saturation_warning_ms"] = 200;
+  doc["limiter"]["saturation_fault_ms"] = 0;
+  doc["fault_latch"] = false;
+  c = parseDaemonConfig(doc, "d.json");
+  EXPECT_DOUBLE_EQ(c.readToWriteMaxMs, 150.0);
+  EXPECT_DOUBLE_EQ(c.saturationWarningMs, 200.0);
+  EXPECT_DOUBLE_EQ(c.saturationFaultMs, 0.0);
+  EXPECT_FALSE(c.faultLatch);
+  doc["read_to_write_max_ms"] = 40;
+  EXPECT_DOUBLE_EQ(parseDaemonConfig(doc, "d.json").readToWriteMaxMs, 40.0);
+}
+
+TEST(DaemonConfig, RejectsTimingThatLetsThePlcActBetweenReadAndWrite) {
+  json doc = minimal();
+  doc["plc_heartbeat_timeout_ms"] = 100;
+  doc["read_to_write_max_ms"] = 95;  // + one 10 ms period >= the PLC's timeout
+  expectError(doc, "read_to_write_max_ms", "plc_heartbeat_timeout_ms");
+  doc = minimal();
+  doc["plc_heartbeat_timeout_ms"] = 20;  // two periods: the PLC would trip on one late cycle
+  expectError(doc, "plc_heartbeat_timeout_ms", "two cycle periods");
+  doc = minimal();
+  doc["limiter"]["saturation_warning_ms"] = 5000;
+  doc["limiter"]["saturation_fault_ms"] = 1000;
+  expectError(doc, "limiter.saturation_fault_ms", "saturation_warning_ms");
 }
 
 TEST(DaemonConfig, RejectsNonFiniteNumbers) {

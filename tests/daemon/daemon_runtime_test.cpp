@@ -9,7 +9,9 @@
 #include <asio/io_context.hpp>
 #include <asio/post.hpp>
 #include <chrono>
+#include <condition_variable>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -47,8 +49,7 @@ config::DaemonConfig testConfig() {
   config::DaemonConfig c;
   c.file = "test.json";
   c.cyclePeriodMs = 2.0;
-  c.limiter.maxOffsetMm = 0.5;
-  c.limiter.maxRateMmS = 5.0;  // 0.01 mm per 2 ms cycle
+  c.limiter = loop::LimiterSettings::uniform(0.5, 5.0);  // 0.01 mm per 2 ms cycle
   c.staleTimeoutMs = 100.0;
   c.modelPath = "model.json";
   return c;
@@ -177,6 +178,76 @@ TEST_F(DaemonTest, GoodReloadSlewsToTheNewModel) {
   EXPECT_GE(writes.size(), 17u);  // (0.2 - 0.03) / 0.01
   EXPECT_TRUE(sawReloadedBit);
   EXPECT_TRUE(daemon->reloadError().empty());
+}
+
+/// A loader that blocks (as reading a FIFO or a hung mount does) until released, then fails.
+struct BlockingLoad {
+  std::mutex mutex;
+  std::condition_variable cv;
+  bool released = false;
+  bool returned = false;
+  int calls = 0;
+  void release() {
+    std::unique_lock lock(mutex);
+    released = true;
+    cv.notify_all();
+    cv.wait_for(lock, 10s, [&] { return returned; });  // the helper thread is done with us
+  }
+};
+
+Daemon::Loader blockingFirstLoad(const std::shared_ptr<BlockingLoad>& block) {
+  return [block]() -> LoadedConfiguration {
+    std::unique_lock lock(block->mutex);
+    if (block->calls++ == 0) {
+      block->cv.wait(lock, [&] { return block->released; });
+      block->returned = true;
+      block->cv.notify_all();
+      throw config::ConfigError("model.fifo", "", "released at the end of the test");
+    }
+    return LoadedConfiguration{testConfig(), std::make_shared<FakeModel>()};
+  };
+}
+
+// A reload blocked on file I/O must not hold the stop: the offsets ramp out and the daemon
+// finishes while the load still hangs.
+TEST_F(DaemonTest, StopRampsOutAndFinishesWhileAReloadHangs) {
+  auto block = std::make_shared<BlockingLoad>();
+  make(blockingFirstLoad(block));
+  daemon->start();
+  ASSERT_TRUE(runUntil(io, [&] { return port.applied[2] == 0.03; }));
+  daemon->requestReload();
+  ASSERT_TRUE(runUntil(io, [&] { return daemon->scheduler().cycles() > 100; }));
+  EXPECT_TRUE(daemon->reloading());
+  daemon->requestStop();
+  ASSERT_TRUE(runUntil(io, [&] { return finished; }));
+  EXPECT_EQ(port.last.status, 0);
+  for (double o : port.last.offsetMm) EXPECT_EQ(o, 0.0);
+  daemon.reset();  // with the load still hanging
+  block->release();
+}
+
+// A reload that hangs is given up after its timeout (real time; 0.3 s here instead of
+// Daemon::kReloadTimeout): RELOAD_FAILED, the running model
+// stays, and the next reload (SIGHUP) works. A SIGHUP during the hang follows it.
+TEST_F(DaemonTest, HungReloadIsAbandonedAndTheNextOneWorks) {
+  auto block = std::make_shared<BlockingLoad>();
+  make(blockingFirstLoad(block));
+  daemon->start();
+  ASSERT_TRUE(runUntil(io, [&] { return daemon->ready(); }));
+  daemon->setReloadTimeout(300ms);
+  const auto start = std::chrono::steady_clock::now();
+  daemon->requestReload();
+  daemon->requestReload();  // remembered: runs once the first one ends
+  ASSERT_TRUE(runUntil(io, [&] { return !daemon->reloadError().empty(); }));
+  EXPECT_GE(std::chrono::steady_clock::now() - start, 300ms);
+  EXPECT_NE(daemon->reloadError().find("abandoned"), std::string::npos) << daemon->reloadError();
+  EXPECT_EQ(&daemon->loop().model(), model.get());
+  ASSERT_TRUE(runUntil(io, [&] { return (port.last.status & status::kReloadFailed) != 0; }));
+  // The remembered reload runs and succeeds.
+  ASSERT_TRUE(runUntil(io, [&] { return &daemon->loop().model() != model.get(); }));
+  EXPECT_TRUE(daemon->reloadError().empty());
+  EXPECT_FALSE(daemon->reloading());
+  block->release();
 }
 
 // The real sd_notify path: libsystemd writes to the NOTIFY_SOCKET this test binds.

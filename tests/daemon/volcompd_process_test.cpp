@@ -108,6 +108,67 @@ TEST_F(VolcompdProcess, ReloadRejectsABrokenModelAndTermStopsWithStatus0) {
   EXPECT_NE(child.output().find("stopped"), std::string::npos) << child.output();
 }
 
+// A model that evaluates to infinity inside its travel is rejected by a reload like any invalid
+// file: the running model stays.
+TEST_F(VolcompdProcess, ReloadRejectsAModelThatEvaluatesToInfinity) {
+  testutil::Subprocess child = run({});
+  ASSERT_TRUE(child.waitForOutput("link lost", 20s)) << child.output();
+  const std::string infinite = dir_.write("infinite.json", R"({"format": "volcomp-model/1",
+    "topology": "XYFZ", "travel": {"X": [0, 850]}, "error_units": {"length": "um", "angle": "urad"},
+    "components": {"EXX": {"polynomial": [0, 0, 0, 0, 1e300]}}})");
+  config_["model"] = infinite;
+  dir_.write("volcompd.json", config_.dump());
+  child.signal(SIGHUP);
+  ASSERT_TRUE(child.waitForOutput("reload rejected", 20s)) << child.output();
+  EXPECT_NE(child.output().find("not finite"), std::string::npos) << child.output();
+  // --check-config refuses it as well.
+  testutil::Subprocess check = run({"--check-config"});
+  EXPECT_EQ(check.waitExit(20s), 2) << check.output();
+  EXPECT_NE(check.output().find("components.EXX"), std::string::npos) << check.output();
+  child.signal(SIGTERM);
+  EXPECT_EQ(child.waitExit(20s), 0) << child.output();
+}
+
+// An offset register that cannot hold max_offset: an int16 at 10^6 counts/mm holds +-0.033 mm.
+TEST_F(VolcompdProcess, CheckConfigRefusesAnOffsetRegisterThatCannotHoldMaxOffset) {
+  config_["transport"]["registers"]["offset"]["Z"] = {
+      {"address", 12}, {"type", "int16"}, {"counts_per_mm", 1000000}};
+  config_["transport"]["registers"]["applied_offset"]["Z"] = {
+      {"address", 12}, {"type", "int16"}, {"counts_per_mm", 1000000}};
+  config_["transport"]["registers"]["status"] = 13;
+  config_["transport"]["registers"]["heartbeat"] = 14;
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess child = run({"--check-config"});
+  EXPECT_EQ(child.waitExit(20s), 2) << child.output();
+  EXPECT_NE(child.output().find("transport.registers.offset.Z"), std::string::npos)
+      << child.output();
+  EXPECT_NE(child.output().find("holds +-0.032767 mm"), std::string::npos) << child.output();
+}
+
+// A response timeout with which a silent controller holds a cycle longer than the unit's watchdog
+// allows (one read and one write of 600 ms > half of WatchdogSec=2s).
+TEST_F(VolcompdProcess, CheckConfigRefusesAResponseTimeoutTheWatchdogDoesNotAllow) {
+  config_["transport"]["response_timeout_ms"] = 600;
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess child = run({"--check-config"});
+  EXPECT_EQ(child.waitExit(20s), 2) << child.output();
+  EXPECT_NE(child.output().find("transport.response_timeout_ms"), std::string::npos)
+      << child.output();
+  EXPECT_NE(child.output().find("watchdog"), std::string::npos) << child.output();
+}
+
+// The reader of the daemon's stderr goes away (here: the test closes the pipe): the next log line
+// fails with EPIPE, and the daemon neither dies of SIGPIPE nor stops working; SIGTERM still ends
+// it with status 0.
+TEST_F(VolcompdProcess, SurvivesTheReaderOfItsLogGoingAway) {
+  testutil::Subprocess child = run({});
+  ASSERT_TRUE(child.waitForOutput("link lost", 20s)) << child.output();
+  child.closeStdout();
+  child.signal(SIGHUP);  // logs "reloading ..." into the closed pipe
+  child.signal(SIGTERM);
+  EXPECT_EQ(child.waitExit(20s), 0);
+}
+
 TEST_F(VolcompdProcess, InterruptStopsWithStatus0) {
   testutil::Subprocess child = run({});
   ASSERT_TRUE(child.waitForOutput("link lost", 20s)) << child.output();

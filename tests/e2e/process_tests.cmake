@@ -4,6 +4,9 @@
 add_executable(volcomp_e2e_process_tests
   compensation_e2e_test.cpp
   safety_e2e_test.cpp
+  timing_faults_e2e_test.cpp
+  hostile_conditions_e2e_test.cpp
+  latch_saturation_e2e_test.cpp
   lifecycle_e2e_test.cpp
   hostile_e2e_test.cpp)
 target_link_libraries(volcomp_e2e_process_tests PRIVATE nlohmann_json::nlohmann_json

@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <system_error>
@@ -57,12 +58,15 @@ class FakePort final : public ControllerPort {
       out.hasSequence = true;
       out.sequence = sequence;
     }
+    // After the controller answered: what happens before the loop writes (a pause, a ramp).
+    if (afterRead) afterRead();
     return {};
   }
 
   std::error_code write(const OffsetCommand& command) noexcept override {
     ++writeCalls;
     if (!connected_) return std::make_error_code(std::errc::not_connected);
+    if (applyFailedWrites && !holdApplied) applied = command.offsetMm;  // applied, answer lost
     if (writeError) return writeError;
     last = command;
     ++writes;
@@ -79,6 +83,10 @@ class FakePort final : public ControllerPort {
   bool semanticsActual = false;
   bool autoSequence = false;
   bool holdApplied = false;
+  /// A failed write (writeError) is applied all the same: its reply was late or lost.
+  bool applyFailedWrites = false;
+  /// Runs inside read() after the sample is taken (e.g. advance the clock: a stopped process).
+  std::function<void()> afterRead;
   std::uint16_t sequence = 0;
   std::array<double, 3> applied{};
   std::error_code connectError;

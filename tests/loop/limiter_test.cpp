@@ -12,11 +12,7 @@ namespace {
 constexpr double kDt = 0.01;  // 10 ms cycle
 
 LimiterSettings settings(double maxOffset = 0.5, double maxRate = 1.0, double maxAccel = 0.0) {
-  LimiterSettings s;
-  s.maxOffsetMm = maxOffset;
-  s.maxRateMmS = maxRate;
-  s.maxAccelMmS2 = maxAccel;
-  return s;
+  return LimiterSettings::uniform(maxOffset, maxRate, maxAccel);
 }
 
 TEST(Limiter, ClampsTargetToMaxOffset) {

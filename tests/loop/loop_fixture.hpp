@@ -14,8 +14,7 @@ namespace volcomp::loop::testing {
 inline LoopSettings testSettings() {
   LoopSettings s;
   s.period = std::chrono::milliseconds(10);
-  s.limiter.maxOffsetMm = 0.5;
-  s.limiter.maxRateMmS = 1.0;  // 0.01 mm per 10 ms cycle
+  s.limiter = LimiterSettings::uniform(0.5, 1.0);  // 0.01 mm per 10 ms cycle
   s.staleTimeout = std::chrono::milliseconds(100);
   s.travelMarginMm = 1.0;
   s.directionHysteresisMm = 0.002;

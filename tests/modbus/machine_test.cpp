@@ -94,8 +94,8 @@ TEST(SimMachine, PositionSemantics) {
 
 TEST(SimMachine, ChecksEveryWriteAgainstTheLimits) {
   MachineOptions opt;
-  opt.limits.maxOffsetMm = 0.05;
-  opt.limits.maxRateMmS = 1.0;
+  opt.limits.maxOffsetMm = {0.05, 0.05, 0.05};
+  opt.limits.maxRateMmS = {1.0, 1.0, 1.0};
   opt.limits.rateToleranceS = 0.001;
   opt.limits.quantumMm = {1e-4, 1e-4, 1e-4};
   opt.limits.cycleS = 0.010;
@@ -125,28 +125,47 @@ TEST(SimMachine, ChecksEveryWriteAgainstTheLimits) {
   EXPECT_TRUE(w[3].violation);
 }
 
-TEST(SimMachine, OneLimiterStepPerWriteWhateverTheJitter) {
+// The rate check measures the controller's time between the writes it applies: a late cycle
+// followed by an on-time one 2 ms later may step by max_rate x 2 ms, not by a whole cycle's step
+// (two steps in one period would be 2 x max_rate at the machine).
+TEST(SimMachine, StepsAreCheckedAgainstTheControllerTimeBetweenWrites) {
   MachineOptions opt;
-  opt.limits.maxRateMmS = 1.0;
+  opt.limits.maxRateMmS = {1.0, 1.0, 1.0};
   opt.limits.rateToleranceS = 0.0;
   opt.limits.cycleS = 0.010;
   Machine m = standing({0, 0, 0}, opt);
   m.onSessionStart(0.0);
   m.onWrite(0.010, offsets(0.010, 0, 0));
-  // A late cycle followed by an on-time one: 2 ms apart, still one step of 1 mm/s * 10 ms.
-  m.onWrite(0.018, offsets(0.020, 0, 0));
-  m.onWrite(0.020, offsets(0.030, 0, 0));
+  m.onWrite(0.018, offsets(0.018, 0, 0));  // 8 ms: 8 um
+  m.onWrite(0.020, offsets(0.020, 0, 0));  // 2 ms: 2 um
   EXPECT_EQ(m.report(0.1)["rate_violations"], 0);
-  // More than one step (0.0101 mm > 0.010 mm) is a violation however it is timed.
-  m.onWrite(0.030, offsets(0.0401, 0, 0));
+  m.onWrite(0.022, offsets(0.030, 0, 0));  // 2 ms: a whole step of 10 um bunched in
   EXPECT_EQ(m.report(0.1)["rate_violations"], 1);
+  // More than one step (0.0101 mm > 0.010 mm) in a whole cycle is a violation too.
+  m.onWrite(0.032, offsets(0.0401, 0, 0));
+  EXPECT_EQ(m.report(0.1)["rate_violations"], 2);
+}
+
+// Each axis is checked against its own limits.
+TEST(SimMachine, PerAxisLimits) {
+  MachineOptions opt;
+  opt.limits.maxOffsetMm = {0.05, 0.1, 0.1};
+  opt.limits.maxRateMmS = {1.0, 0.5, 1.0};
+  opt.limits.rateToleranceS = 0.0;
+  opt.limits.cycleS = 0.010;
+  Machine m = standing({0, 0, 0}, opt);
+  m.onWrite(0.010, offsets(0.010, 0.005, 0.010));
+  EXPECT_EQ(m.report(0.1)["limiter_violations"], 0);
+  m.onWrite(0.020, offsets(0.020, 0.0111, 0.020));  // Y: 6.1 um > 0.5 mm/s x 10 ms
+  EXPECT_EQ(m.report(0.1)["axes"]["Y"]["limiter_violations"], 1);
+  EXPECT_EQ(m.report(0.1)["axes"]["X"]["limiter_violations"], 0);
 }
 
 // The writer's limiter steps per cycle, so a pause (a stalled daemon, a lost link) allows no
 // larger step than one cycle does: resuming with a jump is a violation however long the pause.
 TEST(SimMachine, APauseAllowsNoLargerStepThanOneCycle) {
   MachineOptions opt;
-  opt.limits.maxRateMmS = 1.0;
+  opt.limits.maxRateMmS = {1.0, 1.0, 1.0};
   opt.limits.rateToleranceS = 0.0;
   opt.limits.cycleS = 0.010;
   Machine m = standing({0, 0, 0}, opt);
@@ -166,7 +185,7 @@ TEST(SimMachine, AfterTheWatchdogRampTwoStepsPlusTheReadbackResolutionAreAllowed
   MachineOptions opt;
   opt.heartbeatTimeoutS = 0.1;
   opt.watchdogRampMmS = 1.0;
-  opt.limits.maxRateMmS = 1.0;
+  opt.limits.maxRateMmS = {1.0, 1.0, 1.0};
   opt.limits.rateToleranceS = 0.0;
   opt.limits.cycleS = 0.010;
   opt.initialOffsetMm = {0.03, 0, 0};
@@ -188,7 +207,7 @@ TEST(SimMachine, AfterTheWatchdogRampTwoStepsPlusTheReadbackResolutionAreAllowed
 
 TEST(SimMachine, FirstWriteAfterReconnectMustContinueFromTheAppliedOffset) {
   MachineOptions opt;
-  opt.limits.maxRateMmS = 0.5;
+  opt.limits.maxRateMmS = {0.5, 0.5, 0.5};
   opt.limits.rateToleranceS = 0.0;
   opt.limits.cycleS = 0.01;
   opt.initialOffsetMm = {0.02, 0, 0};  // left applied by an earlier run
@@ -284,6 +303,61 @@ TEST(SimCommands, ParseAndApply) {
   EXPECT_TRUE(applyCommand(m, 2.0, parseCommand("homed off")));
   EXPECT_FALSE(m.inputs(2.0).homed);
   EXPECT_FALSE(applyCommand(m, 2.0, parseCommand("quit")));
+}
+
+// A PLC's watchdog counts from power-up: offsets left applied with no daemon writing are removed
+// too. A garbled read-back changes what the X read-back reports, not what is applied.
+TEST(SimMachine, WatchdogRemovesLeftOverOffsetsAndGarbleOnlyChangesTheReadBack) {
+  MachineOptions opt;
+  opt.heartbeatTimeoutS = 0.1;
+  opt.watchdogRampMmS = 1.0;
+  opt.initialOffsetMm = {0.15, 0, 0};
+  Machine m = standing({0, 0, 0}, opt);
+  for (int i = 0; i <= 300; ++i) m.sample(i * 0.001);
+  EXPECT_EQ(m.appliedOffsetMm()[0], 0.0);
+  EXPECT_EQ(m.report(0.3)["watchdog_trips"], 1);
+  EXPECT_TRUE(applyCommand(m, 0.3, parseCommand("garble-readback 150 0.5")));
+  EXPECT_DOUBLE_EQ(m.inputs(0.4).appliedOffsetMm[0], 150.0);
+  EXPECT_EQ(m.appliedOffsetMm()[0], 0.0);
+  EXPECT_DOUBLE_EQ(m.inputs(0.9).appliedOffsetMm[0], 0.0);
+}
+
+// The reply faults of issue 13: the next N writes applied but answered late or never, and a
+// client stopped before the answer to its next read. Each is consumed by the request it hits.
+TEST(SimCommands, ReplyFaultsAreConsumedOneWriteAtATime) {
+  const Command late = parseCommand("late-reply 0.08 2");
+  EXPECT_EQ(late.kind, Command::Kind::LateReply);
+  EXPECT_DOUBLE_EQ(late.durationS, 0.08);
+  EXPECT_EQ(late.count, 2);
+  EXPECT_EQ(parseCommand("no-reply").count, 1);
+  const Command pause = parseCommand("pause-client 4242 1.5");
+  EXPECT_EQ(pause.pid, 4242);
+  EXPECT_DOUBLE_EQ(pause.durationS, 1.5);
+  EXPECT_TRUE(parseCommand("ack on").on);
+  EXPECT_EQ(parseEvent("2:late-reply:0.1:3").command.count, 3);
+  EXPECT_THROW(parseCommand("late-reply"), std::invalid_argument);
+  EXPECT_THROW(parseCommand("no-reply 0"), std::invalid_argument);
+  EXPECT_THROW(parseCommand("pause-client 12"), std::invalid_argument);
+
+  Machine m = standing({0, 0, 0});
+  applyCommand(m, 1.0, late);
+  applyCommand(m, 1.0, parseCommand("no-reply 1"));
+  EXPECT_TRUE(m.takeWriteReply().drop);  // the dropped reply comes first
+  EXPECT_DOUBLE_EQ(m.takeWriteReply().delayS, 0.08);
+  EXPECT_DOUBLE_EQ(m.takeWriteReply().delayS, 0.08);
+  const WriteReply normal = m.takeWriteReply();
+  EXPECT_FALSE(normal.drop);
+  EXPECT_EQ(normal.delayS, 0.0);
+  applyCommand(m, 1.0, pause);
+  EXPECT_EQ(m.takeClientPause().pid, 4242);
+  EXPECT_EQ(m.takeClientPause().pid, 0);
+  applyCommand(m, 1.0, parseCommand("ack on"));
+  EXPECT_TRUE(m.inputs(1.0).hasFaultAck);
+  EXPECT_TRUE(m.inputs(1.0).faultAck);
+  const nlohmann::json r = m.report(2.0);
+  EXPECT_EQ(r["late_replies"], 2);
+  EXPECT_EQ(r["replies_dropped"], 1);
+  EXPECT_EQ(r["client_pauses"], 1);
 }
 
 }  // namespace

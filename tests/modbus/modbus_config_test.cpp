@@ -94,6 +94,39 @@ TEST(ModbusConfig, AppliedOffsetMayReadBackTheOutputsThemselves) {
   EXPECT_NO_THROW(parseModbusSettings(s, "plant.json", "transport"));
 }
 
+// The fault-acknowledge input: a bit, possibly in the enable/homed register (on its own bit),
+// decoded into the sample and encoded by the simulated controller.
+TEST(ModbusConfig, FaultAckBitSharesTheFlagRegisterOnItsOwnBit) {
+  json s = base();
+  s["registers"]["fault_ack"] = {{"address", 6}, {"bit", 2}};
+  const modbus::ModbusSettings c = parseModbusSettings(s, "plant.json", "transport");
+  ASSERT_TRUE(c.registers.faultAck.has_value());
+  EXPECT_EQ(c.registers.faultAck->bit, 2);
+  std::array<std::uint16_t, 32> holding{};
+  std::array<std::uint16_t, 1> input{};
+  loop::AxisSample in;
+  in.enable = true;
+  in.faultAck = true;
+  ASSERT_FALSE(modbus::encodeInputs(c.registers, in, modbus::TableView{holding, 0},
+                                    modbus::TableView{input, 0}));
+  EXPECT_EQ(holding[6], 0b101);
+  loop::AxisSample out;
+  ASSERT_FALSE(modbus::decodeInputs(c.registers, modbus::ConstTableView{holding, 0},
+                                    modbus::ConstTableView{input, 0}, out));
+  EXPECT_TRUE(out.hasFaultAck);
+  EXPECT_TRUE(out.faultAck);
+  EXPECT_TRUE(out.enable);
+  EXPECT_FALSE(out.homed);
+  // Unmapped: the sample says so.
+  ASSERT_FALSE(modbus::decodeInputs(parseModbusSettings(base(), "p.json", "t").registers,
+                                    modbus::ConstTableView{holding, 0},
+                                    modbus::ConstTableView{input, 0}, out));
+  EXPECT_FALSE(out.hasFaultAck);
+  EXPECT_FALSE(out.faultAck);
+  s["registers"]["fault_ack"]["bit"] = 1;  // homed's bit
+  expectRejected(s, "transport.registers.fault_ack.bit", "homed and fault_ack use the same bit");
+}
+
 TEST(ModbusConfig, RejectsUnknownKeysAndBadValues) {
   json s = base();
   s["registers"]["offsets"] = s["registers"]["offset"];
@@ -151,7 +184,7 @@ TEST(ModbusConfig, RejectsOverlaps) {
 
   s = base();
   s["registers"]["homed"]["bit"] = 0;  // enable is bit 0 of the same register
-  expectRejected(s, "transport.registers.homed.bit", "same bit");
+  expectRejected(s, "transport.registers.homed.bit", "enable and homed use the same bit");
 
   s = base();
   s["registers"]["status"] = 19;  // offset Z is 18..19

@@ -37,8 +37,10 @@ TEST(SimConfig, TheExampleMatchesTheDaemonExample) {
   ASSERT_TRUE(std::holds_alternative<modbus::ModbusSettings>(sim.transport));
   EXPECT_EQ(config::transportType(sim.transport), "modbus-tcp");
   EXPECT_TRUE(sim.transport == daemon.transport) << "the same transport section on both sides";
-  EXPECT_EQ(sim.machine.limits.maxOffsetMm, daemon.limiter.maxOffsetMm);
-  EXPECT_EQ(sim.machine.limits.maxRateMmS, daemon.limiter.maxRateMmS);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(sim.machine.limits.maxOffsetMm[k], daemon.limiter.axes[k].maxOffsetMm);
+    EXPECT_EQ(sim.machine.limits.maxRateMmS[k], daemon.limiter.axes[k].maxRateMmS);
+  }
   EXPECT_DOUBLE_EQ(sim.machine.limits.cycleS * 1000.0, daemon.cyclePeriodMs);
   EXPECT_EQ(sim.machine.semantics, daemon.positionSemantics);
   // int32 at 10000 counts/mm: one count is 0.1 um.

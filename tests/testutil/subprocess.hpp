@@ -107,6 +107,13 @@ class Subprocess {
   Subprocess& operator=(const Subprocess&) = delete;
 
   pid_t pid() const noexcept { return pid_; }
+  /// Closes the reading end of the child's stdout pipe: the child's next write there fails with
+  /// EPIPE (and raises SIGPIPE, unless it ignores it).
+  void closeStdout() noexcept {
+    ::close(stdout_);
+    stdout_ = -1;
+    eof_ = true;
+  }
 
   /// The next line of stdout, or nullopt when none arrives before the timeout or at EOF.
   std::optional<std::string> readLine(std::chrono::milliseconds timeout) {

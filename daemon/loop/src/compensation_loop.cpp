@@ -37,6 +37,20 @@ std::string_view stateName(LoopState state) noexcept {
   return "unknown";
 }
 
+std::string_view withheldName(Withheld reason) noexcept {
+  switch (reason) {
+    case Withheld::None:
+      return "none";
+    case Withheld::StaleRead:
+      return "stale read";
+    case Withheld::ReadbackOutOfRange:
+      return "read-back outside the band";
+    case Withheld::UnknownOutcome:
+      return "unknown write outcome";
+  }
+  return "unknown";
+}
+
 CompensationLoop::CompensationLoop(ControllerPort& port, const Clock& clock,
                                    std::shared_ptr<CompensationModel> model,
                                    const LoopSettings& settings)
@@ -48,6 +62,7 @@ CompensationLoop::CompensationLoop(ControllerPort& port, const Clock& clock,
   // Without a read-back the offsets are only known zero once nothing has been written for
   // plcZeroAfter; this process has written nothing so far, so the wait starts now.
   lastWriteTime_ = clock_.now();
+  lastSentTime_ = lastWriteTime_;
 }
 
 void CompensationLoop::requestStop() noexcept {
@@ -70,6 +85,7 @@ void CompensationLoop::setSettings(const LoopSettings& settings) noexcept {
   settings_.offsetReadback = readback;
   settings_.plcZeroAfter = plcZeroAfter;
   tracker_.setHysteresis(settings_.directionHysteresisMm);
+  if (!settings_.faultLatch) latched_ = FaultCode::None;
 }
 
 void CompensationLoop::enterLinkLost(time_point now, CycleReport& report) noexcept {
@@ -105,6 +121,13 @@ bool CompensationLoop::tryConnect(time_point now, CycleReport& report) noexcept 
   return true;
 }
 
+// The limiter continues from offsets known to be applied: nothing is uncertain any more.
+void CompensationLoop::adopt(const std::array<double, 3>& appliedMm) noexcept {
+  resetLimiter(limiter_, appliedMm);
+  command_.offsetMm = limiter_.offsetMm;
+  uncertain_ = false;
+}
+
 bool CompensationLoop::synchronise(time_point now) noexcept {
   std::array<double, 3> applied{};
   if (settings_.offsetReadback) {
@@ -113,16 +136,23 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
       fault_ = FaultCode::InvalidInput;
       return false;
     }
+    // Never take over (and then write) offsets beyond the band: a garbled reply or a controller
+    // holding more than this installation allows. The controller's watchdog removes them.
+    if (!withinBand(settings_.limiter, sample_.appliedOffsetMm, settings_.readbackResolutionMm)) {
+      fault_ = FaultCode::ReadbackOutOfRange;
+      return false;
+    }
     applied = sample_.appliedOffsetMm;
-  } else if (now - lastWriteTime_ < settings_.plcZeroAfter) {
+  } else if (now - lastSentTime_ < settings_.plcZeroAfter) {
     return false;
   }
-  resetLimiter(limiter_, applied);
-  command_.offsetMm = limiter_.offsetMm;
+  adopt(applied);
   tracker_.reset();
   lastInputChange_ = now;
   lastSequence_ = sample_.sequence;
   lastPositionMm_ = sample_.positionMm;
+  lastEnable_ = sample_.enable;
+  lastAck_ = sample_.hasFaultAck && sample_.faultAck;
   fault_ = FaultCode::None;
   lastWriteFailed_ = false;  // a failure before the resynchronisation says nothing about now
   synced_ = true;
@@ -132,35 +162,34 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
 // The controller may change the applied offsets behind this loop's back while the loop is silent:
 // its heartbeat watchdog ramps them out when the daemon was stopped or blocked (SIGSTOP, a stuck
 // transaction, a starved CPU). After such a silence the limiter must continue from what is
-// applied, as after a reconnect, or the next write would jump. The same holds when enable and
-// homed come back: a controller may ignore offset changes while disabled (LinuxCNC drops them
-// while the machine is off or not homed, and zeroes its offsets at machine-on), so the ramp this
-// loop wrote meanwhile may never have been applied. Only then: while the loop writes every cycle
-// a read-back that disagrees is more likely frozen registers than a PLC acting on its own, and
-// following it would make the written offsets jump. A departure within one limiter step is
-// rounding or lag and keeps the limiter's state (its velocity matters for the acceleration
-// limit).
+// applied, as after a reconnect, or the next write would jump. Only after a silence: while the
+// loop writes every cycle a read-back that disagrees is more likely frozen registers than a PLC
+// acting on its own, and following it would make the written offsets jump. A departure within
+// one limiter step is rounding or lag and keeps the limiter's state (its velocity matters for the
+// acceleration limit).
 void CompensationLoop::followController(time_point now, bool resumed) noexcept {
   const auto silence = now - lastWriteTime_;
   if (silence <= 2 * settings_.period && !(resumed && settings_.offsetReadback)) return;
   std::array<double, 3> applied{};
   if (settings_.offsetReadback) {
     if (!sample_.hasAppliedOffsets || !allFinite(sample_.appliedOffsetMm)) return;
+    if (!withinBand(settings_.limiter, sample_.appliedOffsetMm, settings_.readbackResolutionMm)) {
+      return;  // decide() faults and nothing is written
+    }
     // A life counter that did not move says the registers, the read-back included, are old.
     if (sample_.hasSequence && sample_.sequence == lastSequence_) return;
     applied = sample_.appliedOffsetMm;
-    const double toleranceMm =
-        settings_.limiter.maxRateMmS * seconds(settings_.period) + kReadbackResolutionMm;
     bool departed = false;
-    for (int k = 0; k < 3; ++k) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double toleranceMm = settings_.limiter.axes[k].maxRateMmS * seconds(settings_.period) +
+                                 settings_.readbackResolutionMm;
       if (std::abs(applied[k] - limiter_.offsetMm[k]) > toleranceMm) departed = true;
     }
     if (!departed) return;
-  } else if (settings_.plcZeroAfter.count() <= 0 || silence < settings_.plcZeroAfter) {
+  } else if (settings_.plcZeroAfter.count() <= 0 || now - lastSentTime_ < settings_.plcZeroAfter) {
     return;  // not silent long enough for the PLC to have zeroed the offsets
   }
-  resetLimiter(limiter_, applied);
-  command_.offsetMm = limiter_.offsetMm;
+  adopt(applied);
   ++counters_.resynchronisations;
 }
 
@@ -206,25 +235,205 @@ FaultCode CompensationLoop::checkInputs(time_point now, std::array<double, 3>& q
   return FaultCode::None;
 }
 
+// The model's offset at q, and sustained limiting: the clamp (a target outside the band, not the
+// slew towards it) holding an axis for longer than the warning time sets SATURATED, longer than
+// the fault time is a fault of its own.
+void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>& qMm, Decision& d,
+                                     CycleReport& report) noexcept {
+  const model::Directions& directions = tracker_.update(qMm);
+  const ModelOffset result = model_->offset(qMm, directions);
+  if (result.clampedAxes != 0) d.outOfTravel = true;
+  if (!allFinite(result.offsetMm)) {
+    d.fault = FaultCode::ModelInvalid;
+    return;
+  }
+  if (!result.converged) {
+    d.fault = FaultCode::NotConverged;
+    return;
+  }
+  d.targetMm = result.offsetMm;
+  d.evaluated = true;
+  int longestAxis = -1;
+  std::chrono::nanoseconds longest{0};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const bool clamped = std::abs(d.targetMm[k]) > settings_.limiter.axes[k].maxOffsetMm;
+    if (clamped && !clamping_[k]) clampSince_[k] = now;
+    clamping_[k] = clamped;
+    if (clamped && now - clampSince_[k] >= longest) {
+      longest = now - clampSince_[k];
+      longestAxis = static_cast<int>(k);
+    }
+  }
+  const auto reached = [&](std::chrono::nanoseconds threshold) {
+    return longestAxis >= 0 && threshold.count() > 0 && longest >= threshold;
+  };
+  d.saturated = reached(settings_.saturationWarning);
+  if (d.saturated && !saturationWarned_) {
+    ++counters_.saturationWarnings;
+    report.saturationAxis = longestAxis;
+    report.saturationRequestedMm = d.targetMm[static_cast<std::size_t>(longestAxis)];
+  }
+  saturationWarned_ = d.saturated;
+  if (reached(settings_.saturationFault)) d.fault = FaultCode::SustainedLimit;
+}
+
+// A latched fault stays until the controller acknowledges it: a rising edge of its fault-ack
+// input, or its enable input switched off (the enable toggle). An edge counts only on a read.
+void CompensationLoop::applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept {
+  if (!readFailed) {
+    const bool ack = sample_.hasFaultAck && sample_.faultAck;
+    if (latched_ != FaultCode::None && ((ack && !lastAck_) || (!sample_.enable && lastEnable_))) {
+      latched_ = FaultCode::None;
+      report.acknowledged = true;
+    }
+    lastAck_ = ack;
+    lastEnable_ = sample_.enable;
+  }
+  if (d.fault != FaultCode::None) {
+    if (settings_.faultLatch && latchable(d.fault)) latched_ = d.fault;
+  } else if (latched_ != FaultCode::None) {
+    d.fault = latched_;
+  }
+}
+
+CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFailed,
+                                                    CycleReport& report) noexcept {
+  Decision d;
+  if (!readFailed && readbackOutOfRange()) {
+    d.fault = FaultCode::ReadbackOutOfRange;
+    d.readbackOutside = true;
+  } else if (stopRequested_) {
+    d.next = LoopState::Stopping;
+  } else if (readFailed || lastWriteFailed_) {
+    d.fault = FaultCode::TransactionError;
+  } else {
+    std::array<double, 3> q{};
+    d.fault = checkInputs(now, q, d.outOfTravel);
+    if (d.fault == FaultCode::None) {
+      if (!sample_.enable || !sample_.homed) {
+        d.next = LoopState::Disabled;
+      } else {
+        evaluateModel(now, q, d, report);
+      }
+    }
+  }
+  if (!d.evaluated) {
+    clamping_ = {};
+    saturationWarned_ = false;
+  }
+  if (stopRequested_) {
+    d.next = LoopState::Stopping;
+  } else {
+    applyLatch(readFailed, d, report);
+    if (d.fault != FaultCode::None) d.next = LoopState::Fault;
+  }
+  if (d.next != LoopState::Active) d.targetMm = {};
+  return d;
+}
+
+// A read-back outside the band that is not this loop's own last output (which may lie outside
+// after a reload narrowed the band, and then returns into it at the rate limit) is a garbled
+// reply or offsets this installation does not allow: never taken over.
+bool CompensationLoop::readbackOutOfRange() const noexcept {
+  if (!settings_.offsetReadback || !sample_.hasAppliedOffsets ||
+      !allFinite(sample_.appliedOffsetMm) ||
+      withinBand(settings_.limiter, sample_.appliedOffsetMm, settings_.readbackResolutionMm)) {
+    return false;
+  }
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double toleranceMm = settings_.limiter.axes[k].maxRateMmS * seconds(settings_.period) +
+                               settings_.readbackResolutionMm;
+    if (!(std::abs(sample_.appliedOffsetMm[k] - limiter_.offsetMm[k]) <= toleranceMm)) return true;
+  }
+  return false;
+}
+
+std::chrono::nanoseconds CompensationLoop::readToWriteBound(time_point readAt) const noexcept {
+  // A cycle that takes over a read-back (after a silence) must write it while it is still true:
+  // the controller's own watchdog may be ramping the offsets at that moment.
+  const bool silent = !sentAny_ || readAt - lastSentTime_ > 2 * settings_.period;
+  return silent ? std::min(settings_.readToWriteMax, settings_.period) : settings_.readToWriteMax;
+}
+
+// After writes with an unknown outcome the controller applies some value of the envelope: the
+// output must be within one step (max_rate x dt) of all of them. The limiter stepped from the
+// last attempted value, which is inside the envelope, so the window is never empty unless dt
+// shrank below half the step that made the envelope. Returns false then (write nothing).
+bool CompensationLoop::constrainToEnvelope(LimiterState& state, const LimiterState& before,
+                                           double dtS) const noexcept {
+  if (!uncertain_) return true;
+  LimiterState constrained = state;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double stepMm = settings_.limiter.axes[k].maxRateMmS * dtS;
+    const double lo = envelopeHighMm_[k] - stepMm;
+    const double hi = envelopeLowMm_[k] + stepMm;
+    if (lo > hi + 1e-12) return false;
+    constrained.offsetMm[k] = std::clamp(state.offsetMm[k], lo, std::max(lo, hi));
+    constrained.velocityMmS[k] =
+        dtS > 0.0 ? (constrained.offsetMm[k] - before.offsetMm[k]) / dtS : 0.0;
+  }
+  state = constrained;
+  return true;
+}
+
+std::uint16_t CompensationLoop::statusWord(const Decision& d, const LimiterOutput& out,
+                                           time_point now) noexcept {
+  std::uint16_t status = 0;
+  switch (d.next) {
+    case LoopState::Active:
+      status |= status::kActive;
+      break;
+    case LoopState::Disabled:
+      status |= status::kDisabled;
+      break;
+    case LoopState::Fault:
+      status = withFaultCode(status::kFault, d.fault);
+      break;
+    case LoopState::Stopping:
+      status |= status::kStopping;
+      break;
+    default:
+      break;
+  }
+  if (out.limited) {
+    status |= status::kLimited;
+    ++counters_.limitedCycles;
+  }
+  if (now < reconnectedUntil_) status |= status::kReconnected;
+  if (d.outOfTravel) status |= status::kOutOfTravel;
+  if (now < reloadedUntil_) status |= status::kModelReloaded;
+  if (reloadFailed_) status |= status::kReloadFailed;
+  if (d.saturated) status |= status::kSaturated;
+  if (latched_ != FaultCode::None) status |= status::kLatched;
+  return status;
+}
+
 void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
                                     CycleReport& report) noexcept {
   command_.status = status;
   ++command_.heartbeat;
+  sentAny_ = true;
+  lastSentTime_ = now;
   const std::error_code ec = port_.write(command_);
   if (!ec) {
     ++counters_.writes;
     lastWriteTime_ = now;
     lastWriteFailed_ = false;
+    uncertain_ = false;
     report.wrote = true;
     return;
   }
   report.error = ec;
   if (isLinkError(ec)) {
     enterLinkLost(now, report);
-  } else {
-    ++counters_.writeErrors;
-    lastWriteFailed_ = true;
+    return;
   }
+  // Timeout, mismatched or exception reply: the request may have been applied (a late answer)
+  // or not. The controller now applies the last acknowledged value or one attempted since.
+  ++counters_.writeErrors;
+  ++counters_.unknownOutcomes;
+  lastWriteFailed_ = true;
+  report.unknownOutcome = true;
 }
 
 CycleReport CompensationLoop::step() noexcept {
@@ -235,6 +444,15 @@ CycleReport CompensationLoop::step() noexcept {
 
   const auto finish = [&]() noexcept {
     state_ = LoopState::Finished;
+    report.state = state_;
+    return report;
+  };
+  const auto withhold = [&](Withheld reason, LoopState state, FaultCode fault) noexcept {
+    ++counters_.withheldWrites;
+    report.withheld = reason;
+    state_ = state;
+    fault_ = fault;
+    report.fault = fault;
     report.state = state_;
     return report;
   };
@@ -252,128 +470,118 @@ CycleReport CompensationLoop::step() noexcept {
     }
   }
 
-  const std::error_code readError = port_.read(sample_);
-  if (readError) {
-    report.error = readError;
-    if (isLinkError(readError)) {
-      enterLinkLost(now, report);
-      return stopRequested_ ? finish() : report;
-    }
-    ++counters_.readErrors;
+  if (stopRequested_ && !stopDeadlineSet_) {
+    stopDeadlineSet_ = true;
+    // Twice the ramp time plus a second: enough for the ramp with a few failed writes, and
+    // bounded, so that a controller refusing writes cannot hold the shutdown beyond the
+    // service's stop timeout.
+    const auto ramp =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(
+            2.0 * rampOutSeconds(settings_.limiter, limiter_.offsetMm) + 1.0));
+    stopDeadline_ = now + std::min(ramp, settings_.stopTimeout);
   }
+  const bool pastStopDeadline = stopRequested_ && now >= stopDeadline_;
 
-  const bool wasSynced = synced_;
-  if (!synced_) {
-    if (readError || !synchronise(now)) {
-      // Starting: write nothing until the applied offsets are known.
-      if (stopRequested_) return finish();
-      state_ = LoopState::Starting;
-      report.state = state_;
-      report.fault = fault_;
-      return report;
-    }
-  }
-
-  if (wasSynced && !readError) {
-    const bool resumed = state_ == LoopState::Disabled && sample_.enable && sample_.homed;
-    followController(now, resumed);
-  }
-
-  std::array<double, 3> target{};
-  FaultCode fault = FaultCode::None;
-  bool outOfTravel = false;
-  LoopState next = LoopState::Active;
-
-  if (stopRequested_) {
-    if (state_ != LoopState::Stopping) {
-      double worst = 0.0;
-      for (double o : limiter_.offsetMm) worst = std::max(worst, std::abs(o));
-      double rampS = worst / settings_.limiter.maxRateMmS;
-      if (settings_.limiter.maxAccelMmS2 > 0.0) {
-        rampS += 2.0 * settings_.limiter.maxRateMmS / settings_.limiter.maxAccelMmS2;
+  // Read, decide, and check that the read is still fresh when the write is due; once more if
+  // it is not (the process was stopped or starved between the two, or the read was slow).
+  Decision d;
+  time_point writeAt{};
+  bool fresh = false;
+  for (int attempt = 0; attempt < 2 && !fresh; ++attempt) {
+    const time_point readAt = attempt == 0 ? now : clock_.now();
+    if (attempt > 0) ++counters_.lateReads;
+    report.error.clear();
+    const std::error_code readError = port_.read(sample_);
+    if (readError) {
+      report.error = readError;
+      if (isLinkError(readError)) {
+        enterLinkLost(readAt, report);
+        return stopRequested_ ? finish() : report;
       }
-      // Twice the ramp time plus a second: enough for the ramp with a few failed writes, and
-      // bounded, so that a controller refusing writes cannot hold the shutdown.
-      stopDeadline_ = now + std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                std::chrono::duration<double>(2.0 * rampS + 1.0));
+      ++counters_.readErrors;
     }
-    next = LoopState::Stopping;
-  } else if (readError || lastWriteFailed_) {
-    fault = FaultCode::TransactionError;
-  } else {
-    std::array<double, 3> q{};
-    fault = checkInputs(now, q, outOfTravel);
-    if (fault == FaultCode::None) {
-      if (!sample_.enable || !sample_.homed) {
-        next = LoopState::Disabled;
-      } else {
-        const model::Directions& directions = tracker_.update(q);
-        const ModelOffset result = model_->offset(q, directions);
-        if (result.clampedAxes != 0) outOfTravel = true;
-        if (!allFinite(result.offsetMm)) {
-          fault = FaultCode::ModelInvalid;
-        } else if (!result.converged) {
-          fault = FaultCode::NotConverged;
-        } else {
-          target = result.offsetMm;
-        }
+    const bool wasSynced = synced_;
+    if (!synced_) {
+      if (readError || !synchronise(readAt)) {
+        // Starting: write nothing until the applied offsets are known.
+        if (stopRequested_) return finish();
+        state_ = LoopState::Starting;
+        report.state = state_;
+        report.fault = fault_;
+        return report;
       }
     }
+    if (wasSynced && !readError) {
+      const bool resumed = state_ == LoopState::Disabled && sample_.enable && sample_.homed;
+      followController(readAt, resumed);
+    }
+    d = decide(readAt, static_cast<bool>(readError), report);
+    writeAt = clock_.now();
+    fresh = writeAt - readAt <= readToWriteBound(readAt);
   }
-  if (fault != FaultCode::None) next = LoopState::Fault;
+  if (!fresh) {
+    if (pastStopDeadline) return finish();
+    return withhold(Withheld::StaleRead, state_, fault_);
+  }
+  if (d.readbackOutside) {
+    if (pastStopDeadline) return finish();
+    return withhold(Withheld::ReadbackOutOfRange, LoopState::Fault, d.fault);
+  }
 
+  // dt: the time since the last write sent, so that a late cycle followed by an on-time one
+  // cannot put two steps into one period; capped at the period, so that a gap allows no more
+  // than one step.
+  const double dtS =
+      sentAny_ ? seconds(std::clamp<std::chrono::nanoseconds>(
+                     writeAt - lastSentTime_, std::chrono::nanoseconds(0), settings_.period))
+               : seconds(settings_.period);
   const LimiterState before = limiter_;
-  const LimiterOutput out =
-      limitStep(settings_.limiter, limiter_, target, seconds(settings_.period));
-  if (out.invalidTarget && fault == FaultCode::None) {
-    fault = FaultCode::ModelInvalid;
-    next = LoopState::Fault;
+  LimiterOutput out = limitStep(settings_.limiter, limiter_, d.targetMm, dtS);
+  if (out.invalidTarget && d.fault == FaultCode::None) {
+    d.fault = FaultCode::ModelInvalid;
+    d.next = stopRequested_ ? LoopState::Stopping : LoopState::Fault;
+  }
+  if (!constrainToEnvelope(limiter_, before, dtS)) {
+    limiter_ = before;
+    if (pastStopDeadline) return finish();
+    return withhold(Withheld::UnknownOutcome, state_, fault_);
+  }
+  if (limiter_.offsetMm != out.offsetMm) {
+    out.offsetMm = limiter_.offsetMm;
+    out.limited = true;
   }
   command_.offsetMm = out.offsetMm;
 
-  std::uint16_t status = 0;
-  switch (next) {
-    case LoopState::Active:
-      status |= status::kActive;
-      break;
-    case LoopState::Disabled:
-      status |= status::kDisabled;
-      break;
-    case LoopState::Fault:
-      status = withFaultCode(status::kFault, fault);
-      break;
-    case LoopState::Stopping:
-      status |= status::kStopping;
-      break;
-    default:
-      break;
-  }
-  if (out.limited) {
-    status |= status::kLimited;
-    ++counters_.limitedCycles;
-  }
-  if (now < reconnectedUntil_) status |= status::kReconnected;
-  if (outOfTravel) status |= status::kOutOfTravel;
-  if (now < reloadedUntil_) status |= status::kModelReloaded;
-  if (reloadFailed_) status |= status::kReloadFailed;
-  const bool lastOfStop = next == LoopState::Stopping && limiterAtZero(limiter_);
+  std::uint16_t status = statusWord(d, out, writeAt);
+  const bool lastOfStop = d.next == LoopState::Stopping && limiterAtZero(limiter_);
   if (lastOfStop) status = 0;  // zero offsets, status inactive
 
-  if (fault != FaultCode::None) ++counters_.faultCycles;
-  fault_ = fault;
-  state_ = next;
-  report.fault = fault;
-  writeCommand(now, status, report);
-  if (!report.wrote) {
-    // The controller kept the previous value; continue the ramp from there, not from ours.
+  if (d.fault != FaultCode::None) ++counters_.faultCycles;
+  fault_ = d.fault;
+  state_ = d.next;
+  report.fault = d.fault;
+  // The envelope of what the controller may apply, should this write's outcome be unknown.
+  const std::array<double, 3> acknowledged = before.offsetMm;
+  const bool wasUncertain = uncertain_;
+  writeCommand(writeAt, status, report);
+  if (report.unknownOutcome) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double lo = wasUncertain ? envelopeLowMm_[k] : acknowledged[k];
+      const double hi = wasUncertain ? envelopeHighMm_[k] : acknowledged[k];
+      envelopeLowMm_[k] = std::min(lo, command_.offsetMm[k]);
+      envelopeHighMm_[k] = std::max(hi, command_.offsetMm[k]);
+    }
+    uncertain_ = true;
+  } else if (!report.wrote) {
+    // The link is gone: nothing more is written until the read-back after reconnecting.
     limiter_ = before;
     command_.offsetMm = before.offsetMm;
   }
-  if (state_ == LoopState::Stopping && ((lastOfStop && report.wrote) || now >= stopDeadline_)) {
+  if (state_ == LoopState::Stopping && ((lastOfStop && report.wrote) || pastStopDeadline)) {
     return finish();
   }
   report.state = state_;
-  report.goodCycle = report.wrote && fault == FaultCode::None &&
+  report.goodCycle = report.wrote && d.fault == FaultCode::None &&
                      (state_ == LoopState::Active || state_ == LoopState::Disabled);
   return report;
 }

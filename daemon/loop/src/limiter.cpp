@@ -11,8 +11,8 @@ struct AxisResult {
   double velocity;
 };
 
-AxisResult limitAxis(const LimiterSettings& s, double previous, double previousVelocity,
-                     double target, double dt) noexcept {
+AxisResult limitAxis(const AxisLimits& s, double previous, double previousVelocity, double target,
+                     double dt) noexcept {
   const double band = s.maxOffsetMm;
   const double clamped = std::clamp(target, -band, band);
   const double error = clamped - previous;
@@ -57,9 +57,12 @@ LimiterOutput limitStep(const LimiterSettings& settings, LimiterState& state,
     return result;
   }
   for (int k = 0; k < 3; ++k) {
+    const AxisLimits& limits = settings.axes[static_cast<std::size_t>(k)];
     const double target = finite ? targetMm[k] : 0.0;
-    const AxisResult axis =
-        limitAxis(settings, state.offsetMm[k], state.velocityMmS[k], target, dtS);
+    if (std::abs(target) > limits.maxOffsetMm) {
+      result.clampedAxes = static_cast<std::uint8_t>(result.clampedAxes | (1u << k));
+    }
+    const AxisResult axis = limitAxis(limits, state.offsetMm[k], state.velocityMmS[k], target, dtS);
     state.offsetMm[k] = axis.offset;
     state.velocityMmS[k] = axis.velocity;
     result.offsetMm[k] = axis.offset;
@@ -80,6 +83,26 @@ bool limiterAtZero(const LimiterState& state) noexcept {
     if (state.offsetMm[k] != 0.0) return false;
   }
   return true;
+}
+
+bool withinBand(const LimiterSettings& settings, const std::array<double, 3>& valueMm,
+                double toleranceMm) noexcept {
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!(std::abs(valueMm[k]) <= settings.axes[k].maxOffsetMm + toleranceMm)) return false;
+  }
+  return true;
+}
+
+double rampOutSeconds(const LimiterSettings& settings,
+                      const std::array<double, 3>& offsetMm) noexcept {
+  double longest = 0.0;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const AxisLimits& a = settings.axes[k];
+    double s = std::abs(offsetMm[k]) / a.maxRateMmS;
+    if (a.maxAccelMmS2 > 0.0) s += 2.0 * a.maxRateMmS / a.maxAccelMmS2;
+    if (std::isfinite(s)) longest = std::max(longest, s);
+  }
+  return longest;
 }
 
 }  // namespace volcomp::loop

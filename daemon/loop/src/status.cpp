@@ -18,6 +18,10 @@ std::string_view faultName(FaultCode code) noexcept {
       return "not-converged";
     case FaultCode::TransactionError:
       return "transaction-error";
+    case FaultCode::SustainedLimit:
+      return "sustained-limit";
+    case FaultCode::ReadbackOutOfRange:
+      return "readback-out-of-range";
   }
   return "unknown";
 }

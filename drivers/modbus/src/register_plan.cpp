@@ -57,6 +57,7 @@ RegisterPlan planRegisters(const RegisterMap& m) noexcept {
   for (const auto& p : m.position) addInput(p.table, p.address, registerWidth(p.format.type));
   addInput(m.enable.table, m.enable.address, 1);
   addInput(m.homed.table, m.homed.address, 1);
+  if (m.faultAck) addInput(m.faultAck->table, m.faultAck->address, 1);
   if (m.sequence) addInput(m.sequence->table, m.sequence->address, 1);
   if (m.appliedOffset) {
     for (const auto& a : *m.appliedOffset) {
@@ -82,6 +83,8 @@ std::error_code decodeInputs(const RegisterMap& m, ConstTableView holding, Const
   };
   out.enable = bit(m.enable);
   out.homed = bit(m.homed);
+  out.hasFaultAck = m.faultAck.has_value();
+  out.faultAck = m.faultAck && bit(*m.faultAck);
   out.hasSequence = m.sequence.has_value();
   if (m.sequence)
     out.sequence = at(pick(m.sequence->table, holding, input), m.sequence->address, 1)[0];
@@ -124,6 +127,7 @@ std::error_code encodeInputs(const RegisterMap& m, const loop::AxisSample& sampl
   };
   setBit(m.enable, sample.enable);
   setBit(m.homed, sample.homed);
+  if (m.faultAck) setBit(*m.faultAck, sample.faultAck);
   if (m.sequence)
     at(pick(m.sequence->table, holding, input), m.sequence->address, 1)[0] = sample.sequence;
   if (m.appliedOffset) {

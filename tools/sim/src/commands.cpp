@@ -32,6 +32,14 @@ double parseNumber(const std::string& s, const std::string& what) {
   return v;
 }
 
+int parseCount(const std::string& s) {
+  const double v = parseNumber(s, "a positive whole number");
+  if (v < 1 || v > 1e9 || v != std::floor(v)) {
+    throw std::invalid_argument("expected a positive whole number, got \"" + s + "\"");
+  }
+  return static_cast<int>(v);
+}
+
 bool parseOnOff(const std::string& s) {
   if (s == "on" || s == "1" || s == "true") return true;
   if (s == "off" || s == "0" || s == "false") return false;
@@ -70,8 +78,29 @@ Command parseCommand(std::string_view text) {
   } else if (name == "hold") {
     c.kind = Command::Kind::Hold;
     c.durationS = optionalDuration(1);
-  } else if (name == "enable" || name == "homed") {
-    c.kind = name == "enable" ? Command::Kind::Enable : Command::Kind::Homed;
+  } else if (name == "late-reply") {
+    c.kind = Command::Kind::LateReply;
+    if (w.size() < 2 || w.size() > 3) throw std::invalid_argument("late-reply needs S [N]");
+    c.durationS = parseNumber(w[1], "a delay in seconds");
+    if (w.size() == 3) c.count = parseCount(w[2]);
+  } else if (name == "no-reply") {
+    c.kind = Command::Kind::NoReply;
+    if (w.size() > 2) throw std::invalid_argument("too many arguments to no-reply");
+    if (w.size() == 2) c.count = parseCount(w[1]);
+  } else if (name == "garble-readback") {
+    c.kind = Command::Kind::GarbleReadback;
+    if (w.size() < 2) throw std::invalid_argument("garble-readback needs MM [S]");
+    c.valueMm = parseNumber(w[1], "a read-back value in mm");
+    c.durationS = optionalDuration(2);
+  } else if (name == "pause-client") {
+    c.kind = Command::Kind::PauseClient;
+    if (w.size() != 3) throw std::invalid_argument("pause-client needs PID S");
+    c.pid = parseCount(w[1]);
+    c.durationS = parseNumber(w[2], "a pause in seconds");
+  } else if (name == "enable" || name == "homed" || name == "ack") {
+    c.kind = name == "enable"  ? Command::Kind::Enable
+             : name == "homed" ? Command::Kind::Homed
+                               : Command::Kind::Ack;
     if (w.size() != 2) throw std::invalid_argument(name + " needs on or off");
     c.on = parseOnOff(w[1]);
   } else if (name == "resume" || name == "quit" || name == "status") {
@@ -80,9 +109,12 @@ Command parseCommand(std::string_view text) {
                               : Command::Kind::Status;
     if (w.size() != 1) throw std::invalid_argument(name + " takes no argument");
   } else {
-    throw std::invalid_argument("unknown command \"" + name +
-                                "\"; expected stall, drop-link, exception, freeze, hold, enable, "
-                                "homed, resume, status or quit");
+    throw std::invalid_argument(
+        "unknown command \"" + name +
+        "\"; expected stall, drop-link, exception, freeze, hold, "
+        "late-reply, no-reply, pause-client, garble-readback, enable, homed, "
+        "ack, resume, "
+        "status or quit");
   }
   return c;
 }
@@ -118,6 +150,21 @@ bool applyCommand(Machine& machine, double tS, const Command& c) {
       break;
     case Command::Kind::Hold:
       machine.hold(tS, c.durationS);
+      break;
+    case Command::Kind::LateReply:
+      machine.lateReplies(c.durationS, c.count);
+      break;
+    case Command::Kind::NoReply:
+      machine.dropReplies(c.count);
+      break;
+    case Command::Kind::PauseClient:
+      machine.pauseClient(c.pid, c.durationS);
+      break;
+    case Command::Kind::GarbleReadback:
+      machine.garbleReadback(tS, c.valueMm, c.durationS);
+      break;
+    case Command::Kind::Ack:
+      machine.setFaultAck(c.on);
       break;
     case Command::Kind::Enable:
       machine.setEnable(c.on);

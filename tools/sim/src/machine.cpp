@@ -45,6 +45,9 @@ void Machine::advanceLocked(double tS) {
   if (!started_) {
     started_ = true;
     lastT_ = tS;
+    // The PLC's watchdog counts from power-up: offsets left applied without a daemon are removed
+    // too, whoever set them.
+    lastHeartbeatChangeT_ = tS;
   }
   const double dt = tS - lastT_;
   if (dt <= 0.0) return;
@@ -63,8 +66,7 @@ void Machine::advanceLocked(double tS) {
     if (programmed_[k] > previous[k]) directions_[k] = 1;
     if (programmed_[k] < previous[k]) directions_[k] = -1;
   }
-  if (options_.heartbeatTimeoutS > 0.0 && anyWrite_ &&
-      tS - lastHeartbeatChangeT_ > options_.heartbeatTimeoutS) {
+  if (options_.heartbeatTimeoutS > 0.0 && tS - lastHeartbeatChangeT_ > options_.heartbeatTimeoutS) {
     if (!watchdogTripped_) {
       watchdogTripped_ = true;
       ++watchdogTrips_;
@@ -88,6 +90,7 @@ loop::AxisSample Machine::inputs(double tS) {
     loop::AxisSample s = frozenSample_;
     s.enable = enable_;
     s.homed = homed_;
+    s.faultAck = faultAck_;
     return s;
   }
   loop::AxisSample s;
@@ -102,6 +105,11 @@ loop::AxisSample Machine::inputs(double tS) {
   s.appliedOffsetMm = applied_;
   s.hasSequence = true;
   s.sequence = sequence_;
+  // A garbled reply (or a controller reporting nonsense) in the X read-back; what it applies is
+  // unchanged.
+  if (activeAt(garbleUntil_, tS)) s.appliedOffsetMm[0] = garbleMm_;
+  s.hasFaultAck = true;
+  s.faultAck = faultAck_;
   frozenSample_ = s;
   return s;
 }
@@ -123,30 +131,34 @@ void Machine::onWrite(double tS, const loop::OffsetCommand& command, bool partia
   rec.partial = partial;
   if (partial) ++partialWrites_;
   // The reference of the rate check is what the controller applies right now (after any
-  // watchdog ramp). A write may make one limiter step from it, max_rate * (cycle + tolerance),
-  // however long ago the previous write was: the daemon's limiter steps per cycle, so a gap (a
-  // stalled daemon, a lost link, a new session) allows no more than one cycle does. When the
-  // controller changed the offsets itself since the last write, the daemon follows that only once
-  // they depart from its own by more than a step plus the read-back resolution (docs/daemon.md),
-  // so that much more is allowed then.
+  // watchdog ramp), and the time is the controller's: since the previous write it applied,
+  // capped at one cycle (the daemon's dt is capped so: a gap allows one cycle's step, and a late
+  // cycle followed by an on-time one may not put two steps into one period). When the controller
+  // changed the offsets itself since the last write, the daemon follows that only once they
+  // depart from its own by more than a step plus the read-back resolution (docs/daemon.md), so
+  // that much more is allowed then.
   const Limits& lim = options_.limits;
-  const double stepMm = lim.maxRateMmS * (lim.cycleS + lim.rateToleranceS);
-  const double allowedMm = controllerChanged_ ? 2.0 * stepMm + loop::kReadbackResolutionMm : stepMm;
+  const double windowS = anyWrite_ ? std::clamp(tS - lastWriteT_, 0.0, lim.cycleS) : lim.cycleS;
   for (std::size_t k = 0; k < 3; ++k) {
     const double o = command.offsetMm[k];
     const double q = lim.quantumMm[k];
+    const double stepMm = lim.maxRateMmS[k] * (windowS + lim.rateToleranceS);
+    const double allowedMm = controllerChanged_
+                                 ? stepMm + lim.maxRateMmS[k] * (lim.cycleS + lim.rateToleranceS) +
+                                       loop::kReadbackResolutionMm
+                                 : stepMm;
     std::string what;
     if (!std::isfinite(o)) {
       what = "not finite";
-    } else if (std::abs(o) > lim.maxOffsetMm + q + 1e-9) {
-      what =
-          "|offset| " + std::to_string(o) + " mm > max_offset " + std::to_string(lim.maxOffsetMm);
+    } else if (std::abs(o) > lim.maxOffsetMm[k] + q + 1e-9) {
+      what = "|offset| " + std::to_string(o) + " mm > max_offset " +
+             std::to_string(lim.maxOffsetMm[k]);
       ++offsetViolations_;
     } else if (std::abs(o - applied_[k]) > allowedMm + 2.0 * q + 1e-9) {
       what = "step " + std::to_string(o - applied_[k]) + " mm from the applied " +
              std::to_string(applied_[k]) + " mm > " + std::to_string(allowedMm) + " mm (max_rate " +
-             std::to_string(lim.maxRateMmS) + " mm/s per cycle of " + std::to_string(lim.cycleS) +
-             " s)";
+             std::to_string(lim.maxRateMmS[k]) + " mm/s over " + std::to_string(windowS) +
+             " s since the previous write, cycle " + std::to_string(lim.cycleS) + " s)";
       ++rateViolations_;
     }
     if (!what.empty()) {
@@ -177,6 +189,7 @@ void Machine::onWrite(double tS, const loop::OffsetCommand& command, bool partia
     watchdogTripped_ = false;
   }
   controllerChanged_ = false;
+  lastWriteT_ = tS;
   ++writeCount_;
   if (options_.keepWrites) writes_.push_back(rec);
 }
@@ -195,6 +208,29 @@ void Machine::countRequest(bool answered, bool exception) {
   ++requests_;
   if (!answered) ++unanswered_;
   if (exception) ++exceptionsSent_;
+}
+
+WriteReply Machine::takeWriteReply() {
+  std::lock_guard lock(mutex_);
+  WriteReply r;
+  if (droppedReplies_ > 0) {
+    --droppedReplies_;
+    ++repliesDropped_;
+    r.drop = true;
+  } else if (lateReplies_ > 0) {
+    --lateReplies_;
+    ++lateRepliesSent_;
+    r.delayS = lateReplyS_;
+  }
+  return r;
+}
+
+ClientPause Machine::takeClientPause() {
+  std::lock_guard lock(mutex_);
+  const ClientPause p = pause_;
+  if (p.pid != 0) ++clientPauses_;
+  pause_ = {};
+  return p;
 }
 
 void Machine::sample(double tS) {
@@ -242,9 +278,33 @@ void Machine::setHomed(bool on) {
   std::lock_guard lock(mutex_);
   homed_ = on;
 }
+void Machine::garbleReadback(double tS, double mm, double durationS) {
+  std::lock_guard lock(mutex_);
+  garbleMm_ = mm;
+  garbleUntil_ = until(tS, durationS);
+}
+void Machine::setFaultAck(bool on) {
+  std::lock_guard lock(mutex_);
+  faultAck_ = on;
+}
+void Machine::lateReplies(double delayS, int count) {
+  std::lock_guard lock(mutex_);
+  lateReplyS_ = delayS;
+  lateReplies_ = count;
+}
+void Machine::dropReplies(int count) {
+  std::lock_guard lock(mutex_);
+  droppedReplies_ = count;
+}
+void Machine::pauseClient(int pid, double seconds) {
+  std::lock_guard lock(mutex_);
+  pause_ = {pid, seconds};
+}
 void Machine::resume() {
   std::lock_guard lock(mutex_);
-  stallUntil_ = dropUntil_ = exceptionUntil_ = freezeUntil_ = holdUntil_ = 0.0;
+  stallUntil_ = dropUntil_ = exceptionUntil_ = freezeUntil_ = holdUntil_ = garbleUntil_ = 0.0;
+  lateReplies_ = droppedReplies_ = 0;
+  pause_ = {};
 }
 
 std::vector<WriteRecord> Machine::writes() const {
@@ -293,6 +353,9 @@ nlohmann::json Machine::report(double tS) const {
       {"requests", requests_},
       {"requests_unanswered", unanswered_},
       {"exceptions_sent", exceptionsSent_},
+      {"late_replies", lateRepliesSent_},
+      {"replies_dropped", repliesDropped_},
+      {"client_pauses", clientPauses_},
       {"watchdog_trips", watchdogTrips_},
       {"position_semantics",
        options_.semantics == loop::PositionSemantics::Actual ? "actual" : "commanded"},

@@ -86,6 +86,13 @@ void writeRecord(const std::string& file, const std::vector<volcomp::sim::WriteR
   }
 }
 
+// Faults of Modbus requests and replies; a CAN node has no replies to delay or drop.
+bool modbusOnly(volcomp::sim::Command::Kind kind) {
+  using Kind = volcomp::sim::Command::Kind;
+  return kind == Kind::Exception || kind == Kind::LateReply || kind == Kind::NoReply ||
+         kind == Kind::PauseClient;
+}
+
 bool pathInsideTravel(const volcomp::sim::Path& path, const volcomp::sim::Travel& travel,
                       std::string& why) {
   const auto b = path.bounds();
@@ -110,11 +117,13 @@ int main(int argc, char** argv) {
       "volcomp-sim: a simulated machine and controller for volcompd (Modbus TCP/RTU, CAN)"};
   app.footer(
       "Fault commands (stdin, one per line, or --event T:COMMAND[:ARG...]): stall [S], "
-      "drop-link [S], exception CODE [S], freeze [S], hold [S], enable on|off, homed on|off, "
+      "drop-link [S], exception CODE [S], late-reply S [N], no-reply [N], pause-client PID S, "
+      "garble-readback MM [S], freeze [S], hold [S], enable on|off, homed on|off, ack on|off, "
       "resume, status, quit.\n"
       "CAN: stall and drop-link both make the node silent (socket closed: no input frames, no SYNC "
       "answers, writes not received) and it reopens when they end; taking the interface down "
-      "(ip link set DEV down) is outside the simulator. exception is Modbus only.\n");
+      "(ip link set DEV down) is outside the simulator. exception, late-reply, no-reply and "
+      "pause-client are Modbus only.\n");
   std::string configFile, recordFile, modelOverride, semanticsOverride, interfaceOverride;
   std::optional<int> port;
   bool rtu = false, tcp = false;
@@ -172,9 +181,10 @@ int main(int argc, char** argv) {
                                   "--rtu, --tcp and --port apply to Modbus, not to \"can\"");
       }
       for (const auto& e : events) {
-        if (e.command.kind == sim::Command::Kind::Exception) {
+        if (modbusOnly(e.command.kind)) {
           throw config::ConfigError(configFile, "transport.type",
-                                    "the exception fault is Modbus only (not with \"can\")");
+                                    "exception, late-reply, no-reply and pause-client are Modbus "
+                                    "only (not with \"can\")");
         }
       }
       if (!interfaceOverride.empty()) {
@@ -248,8 +258,8 @@ int main(int argc, char** argv) {
       if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
       try {
         const sim::Command command = sim::parseCommand(line);
-        if (canServer && command.kind == sim::Command::Kind::Exception) {
-          std::cerr << "volcomp-sim: exception: Modbus only, ignored on CAN\n";
+        if (canServer && modbusOnly(command.kind)) {
+          std::cerr << "volcomp-sim: " << line << ": Modbus only, ignored on CAN\n";
           continue;
         }
         if (command.kind == sim::Command::Kind::Status) {

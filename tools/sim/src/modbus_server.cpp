@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <cstdint>
 #include <system_error>
 
 #include <arpa/inet.h>
@@ -11,6 +13,7 @@
 #include <netinet/tcp.h>
 #include <poll.h>
 #include <pty.h>
+#include <signal.h>
 #include <sys/socket.h>
 #include <termios.h>
 #include <unistd.h>
@@ -27,6 +30,20 @@ constexpr int kPollMs = 10;
 
 std::uint16_t word(const std::uint8_t* p) noexcept {
   return static_cast<std::uint16_t>((p[0] << 8) | p[1]);
+}
+
+// Holds the reply for `seconds` (fault injection), in slices so that stop() is not delayed.
+void holdReply(double seconds, const std::atomic<bool>& stopping) noexcept {
+  const auto until =
+      std::chrono::steady_clock::now() +
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(seconds));
+  while (!stopping) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        until - std::chrono::steady_clock::now());
+    if (left.count() <= 0) break;
+    pollfd none{};
+    ::poll(&none, 0, static_cast<int>(std::min<std::int64_t>(left.count(), kPollMs)));
+  }
 }
 
 }  // namespace
@@ -222,6 +239,7 @@ void ModbusServer::handle(int length) noexcept {
   }
   const int hStart = mapping_->start_registers;
   const int hCount = mapping_->nb_registers;
+  bool wroteOutputs = false;
   if (wAddr >= 0 && wAddr >= hStart && wAddr + wCount <= hStart + hCount) {
     // Apply the write before filling the inputs, so that an FC23 read-back and `actual`
     // positions already reflect it (the server executes the write before the read).
@@ -238,6 +256,7 @@ void ModbusServer::handle(int length) noexcept {
                                  static_cast<std::uint16_t>(hStart)},
           command);
       machine_.onWrite(t, command, !(wAddr <= outLo && wAddr + wCount >= outHi));
+      wroteOutputs = true;
     }
   }
   const loop::AxisSample inputs = machine_.inputs(t);
@@ -250,7 +269,26 @@ void ModbusServer::handle(int length) noexcept {
           std::span<std::uint16_t>(mapping_->tab_input_registers,
                                    static_cast<std::size_t>(mapping_->nb_input_registers)),
           static_cast<std::uint16_t>(mapping_->start_input_registers)});
-  modbus_reply(ctx_, req_.data(), length, mapping_);
+  // Faults of the reply: a write applied but answered late or never; a client stopped between
+  // the read it is waiting for and the write that follows (SIGSTOP before the answer, so that it
+  // cannot write before it is stopped; SIGCONT once the answer waits in its socket).
+  if (wroteOutputs) {
+    const WriteReply fate = machine_.takeWriteReply();
+    if (fate.drop) {
+      machine_.countRequest(false, false);
+      return;
+    }
+    if (fate.delayS > 0.0) holdReply(fate.delayS, stopping_);
+  }
+  ClientPause pause;
+  if (wAddr < 0) pause = machine_.takeClientPause();
+  if (pause.pid > 0 && ::kill(pause.pid, SIGSTOP) == 0) {
+    holdReply(pause.seconds, stopping_);
+    modbus_reply(ctx_, req_.data(), length, mapping_);
+    ::kill(pause.pid, SIGCONT);
+  } else {
+    modbus_reply(ctx_, req_.data(), length, mapping_);
+  }
   machine_.countRequest(true, false);
 }
 

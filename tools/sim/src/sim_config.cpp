@@ -21,6 +21,16 @@ Vec3 vec3(const JsonReader& r) {
   return r.fixedNumbers<3>();
 }
 
+// A number for every axis, or {"X": x, "Y": y, "Z": z} (as the daemon's limiter takes them).
+Vec3 perAxis(const JsonReader& r) {
+  if (!r.isObject()) {
+    const double v = r.number(0.0, 1e6);
+    return {v, v, v};
+  }
+  r.allowOnly({"X", "Y", "Z"});
+  return {r.at("X").number(0.0, 1e6), r.at("Y").number(0.0, 1e6), r.at("Z").number(0.0, 1e6)};
+}
+
 PathSpec parsePath(const JsonReader& r, const std::string& file) {
   PathSpec p;
   p.type = r.at("type").oneOf({"raster", "circle", "points", "csv"});
@@ -61,8 +71,8 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
   if (auto l = root.find("limits")) {
     l->allowOnly({"max_offset_mm", "max_rate_mm_s", "rate_tolerance_ms", "cycle_ms"});
     if (auto v = l->find("cycle_ms")) c.machine.limits.cycleS = v->number(0.0, 1e6) / 1000.0;
-    if (auto v = l->find("max_offset_mm")) c.machine.limits.maxOffsetMm = v->number(0.0, 1e6);
-    if (auto v = l->find("max_rate_mm_s")) c.machine.limits.maxRateMmS = v->number(0.0, 1e6);
+    if (auto v = l->find("max_offset_mm")) c.machine.limits.maxOffsetMm = perAxis(*v);
+    if (auto v = l->find("max_rate_mm_s")) c.machine.limits.maxRateMmS = perAxis(*v);
     if (auto v = l->find("rate_tolerance_ms")) {
       c.machine.limits.rateToleranceS = v->number(0.0, 1e6) / 1000.0;
     }

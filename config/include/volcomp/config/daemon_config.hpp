@@ -9,13 +9,23 @@
 ///   * "position_semantics": "commanded" | "actual",
 ///   * "limiter": {"max_offset_mm": 0.5,      clamp band, mm, in (0, 100]
 ///                 "max_rate_mm_s": 1.0,      slew limit, mm/s, in (0, 1000]
-///                 "max_accel_mm_s2": 0},     optional acceleration limit, mm/s^2, 0 = none
+///                 "max_accel_mm_s2": 0,      optional acceleration limit, mm/s^2, 0 = none
+///                                            (each of the three: a number for every axis, or
+///                                            {"X": .., "Y": .., "Z": ..})
+///                 "saturation_warning_ms": 1000,  clamp held this long: SATURATED + a warning
+///                 "saturation_fault_ms": 10000},  ... this long: fault sustained-limit (0 = off)
 ///     "stale_timeout_ms": 500,               > cycle_period_ms
 ///     "frozen_positions_are_stale": false,   also treat unchanged positions as stale input
 ///     "travel_margin_mm": 1.0,               >= 0
 ///     "direction_hysteresis_mm": 0.002,      >= 0
 ///     "offset_readback": true,               the controller maps the applied offsets
 ///     "plc_zero_after_ms": 500,              * when offset_readback is false (see below)
+///     "plc_heartbeat_timeout_ms": 50,        the PLC's heartbeat watchdog (default 5 periods)
+///     "read_to_write_max_ms": 25,            default half the heartbeat timeout; a cycle slower
+///                                            from its read to its write reads again
+///     "fault_latch": true,                   faults (but a failed transaction) stay until the
+///                                            controller acknowledges them
+///     "service_watchdog_ms": 2000,           the unit's WatchdogSec (config/transport_limits.hpp)
 ///   * "model": "model.json",                 relative to this file's directory
 ///     "reconnect": {"initial_ms": 100, "max_ms": 2000},
 ///     "log_level": "info",                   trace|debug|info|warn|error|critical|off
@@ -53,6 +63,15 @@ struct DaemonConfig {
   double directionHysteresisMm = 0.002;
   bool offsetReadback = true;
   std::optional<double> plcZeroAfterMs;
+  double plcHeartbeatTimeoutMs = 50.0;
+  double readToWriteMaxMs = 25.0;
+  double saturationWarningMs = 1000.0;
+  double saturationFaultMs = 10000.0;
+  bool faultLatch = true;
+  /// The service manager's watchdog interval (WatchdogSec of the installed unit, which a test
+  /// compares with this default); a cycle may
+  /// block on its transactions for at most half of it (config/transport_limits.hpp).
+  double serviceWatchdogMs = 2000.0;
   std::string modelPath;  ///< resolved against the configuration file's directory
   ReconnectConfig reconnect;
   std::string logLevel = "info";

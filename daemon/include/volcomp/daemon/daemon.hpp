@@ -1,8 +1,10 @@
 #pragma once
 /// The daemon around the loop: the periodic scheduler, service-manager notifications, state-change
 /// logging, stop and reload. Everything runs on one io_context thread except the reload's file
-/// loading and validation, which runs on a helper thread and hands its result back to the
-/// io_context, so that a slow or failing load never delays a cycle.
+/// loading and validation, which runs on a detached helper thread and hands its result back to
+/// the io_context, so that a slow, failing or hung load never delays a cycle or a stop: a stop
+/// abandons a reload in progress, and a reload not finished after kReloadTimeout is given up
+/// (RELOAD_FAILED, the running model stays). A reload requested during another follows it.
 ///
 /// Notifications: READY=1 after the first good cycle (and after each reload), WATCHDOG=1 from the
 /// cycle itself at a quarter of the watchdog interval (a stuck cycle stops the pings),
@@ -15,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -31,6 +34,10 @@ namespace volcomp::daemon {
 
 class Daemon {
  public:
+  /// How long a reload may take before it is given up, in real (steady-clock) time: the load
+  /// is file I/O on a helper thread, whatever clock the cycles run on.
+  static constexpr std::chrono::seconds kReloadTimeout{10};
+
   /// Loads a configuration for a reload; throws on a bad file (the running one then stays).
   using Loader = std::function<LoadedConfiguration()>;
 
@@ -48,6 +55,8 @@ class Daemon {
   /// SIGHUP: load and validate config and model off the io_context thread, then take them over
   /// between cycles; a rejected file keeps everything as it was and sets RELOAD_FAILED.
   void requestReload();
+  /// Overrides kReloadTimeout (tests).
+  void setReloadTimeout(std::chrono::steady_clock::duration timeout) { reloadTimeout_ = timeout; }
 
   const loop::CompensationLoop& loop() const noexcept { return loop_; }
   const PeriodicScheduler& scheduler() const noexcept { return scheduler_; }
@@ -61,8 +70,19 @@ class Daemon {
  private:
   bool cycle();
   void logReport(const loop::CycleReport& report);
+  void logEvents(const loop::CycleReport& report);
+  std::string readbackText() const;
   void notifyPeriodic(loop::Clock::time_point now);
   void finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::string error);
+  void checkReloadTimeout();
+  void abandonReload();
+
+  /// Shared with a reload's helper thread: set `abandoned` (under the mutex) and the thread
+  /// hands nothing back.
+  struct ReloadJob {
+    std::mutex mutex;
+    bool abandoned = false;
+  };
 
   asio::io_context& io_;
   const loop::Clock& clock_;
@@ -73,7 +93,10 @@ class Daemon {
   PeriodicScheduler scheduler_;
   Loader reloadLoader_;
   std::function<void()> onFinished_;
-  std::thread reloadThread_;
+  std::shared_ptr<ReloadJob> reload_;
+  bool reloadAgain_ = false;
+  std::chrono::steady_clock::time_point reloadStarted_{};
+  std::chrono::steady_clock::duration reloadTimeout_ = kReloadTimeout;
 
   bool ready_ = false;
   bool stopping_ = false;
@@ -87,8 +110,10 @@ class Daemon {
   bool warnedStarting_ = false;
   std::uint64_t cyclesAtLastStatus_ = 0;
   std::uint64_t overrunsAtLastStatus_ = 0;
+  std::uint64_t lateReadsAtLastStatus_ = 0;
   double cycleRateHz_ = 0.0;
   loop::FaultCode lastLoggedFault_ = loop::FaultCode::None;
+  loop::Withheld lastWithheld_ = loop::Withheld::None;
 };
 
 }  // namespace volcomp::daemon

@@ -10,15 +10,27 @@
 ///   Disabled  enable off or not homed: ramp to zero at max rate, then zero. When enable and
 ///             homed return, the limiter continues from the read-back if it departs by more
 ///             than one step (the controller may have ignored the ramp).
-///   Fault     stale/invalid input, beyond travel + margin, model error, failed transaction:
-///             ramp to zero; FAULT bit and code. Clears when the cause is gone (the offsets then
-///             slew back in through the limiter).
+///   Fault     stale/invalid input, beyond travel + margin, model error, sustained limiting, a
+///             read-back outside the band, failed transaction: ramp to zero; FAULT bit and code.
+///             With the fault latch every fault but a failed transaction stays until the
+///             controller acknowledges it (fault-ack rising edge, or enable off); otherwise it
+///             clears when the cause is gone (the offsets then slew back in through the limiter).
 ///   LinkLost  transport down: nothing written; reconnect with backoff initial -> 2x -> max; on
 ///             reconnect back to Starting, i.e. continue from the read-back, never jump.
 ///   Stopping  after requestStop(): ramp to zero, then write zero with status 0 and finish.
 ///   Finished  nothing more is done.
 /// Position semantics: with `actual` the applied offset (read back, else the last one written) is
 /// subtracted from the positions before the model is evaluated, so the offset does not feed back.
+///
+/// Timing rules (each write is checked against what the controller may be applying then):
+///   - the limiter's dt is the measured time since the last write sent, capped at one period;
+///   - a write whose outcome is unknown (timeout, mismatched reply) may have been applied: until
+///     a write is acknowledged, every value written is within one limiter step of the last
+///     acknowledged value and of every value attempted since (or nothing is written);
+///   - a cycle whose read-to-write time exceeds readToWriteMax reads again, and writes nothing
+///     when the second read is late too: a write is never computed from a stale read-back;
+///   - a read-back outside +-max_offset is the fault ReadbackOutOfRange; nothing is written
+///     while it lasts.
 ///
 /// step() is noexcept, allocation-free and does no logging; it reports through CycleReport and
 /// counters, which the caller logs on state changes only.
@@ -39,11 +51,6 @@
 
 namespace volcomp::loop {
 
-/// Rounding of a read-back register: one count of a 0.1 um register (mm). After a silence the
-/// loop follows a read-back that departs from its own offsets by more than one limiter step plus
-/// this; a coarser register only makes it re-seed more often, which is safe.
-inline constexpr double kReadbackResolutionMm = 1e-4;
-
 enum class LoopState : std::uint8_t {
   Starting,
   Active,
@@ -56,6 +63,20 @@ enum class LoopState : std::uint8_t {
 
 std::string_view stateName(LoopState state) noexcept;
 
+/// Why a cycle that read its inputs wrote nothing.
+enum class Withheld : std::uint8_t {
+  None,
+  /// Both reads of the cycle were older than readToWriteMax when the write was due.
+  StaleRead,
+  /// The read-back of the applied offsets is outside +-max_offset.
+  ReadbackOutOfRange,
+  /// After writes with an unknown outcome no value is within one step of every value the
+  /// controller may be applying (only when dt shrank below half a period).
+  UnknownOutcome,
+};
+
+std::string_view withheldName(Withheld reason) noexcept;
+
 /// What one cycle did.
 struct CycleReport {
   LoopState previous = LoopState::Starting;
@@ -63,6 +84,15 @@ struct CycleReport {
   FaultCode fault = FaultCode::None;
   bool wrote = false;      ///< an offset command was written successfully
   bool goodCycle = false;  ///< read and write succeeded without a fault (Active or Disabled)
+  /// The write of this cycle failed on a live link: the controller may or may not apply it.
+  bool unknownOutcome = false;
+  Withheld withheld = Withheld::None;
+  /// A latched fault was acknowledged by the controller in this cycle.
+  bool acknowledged = false;
+  /// The saturation warning started in this cycle: the axis (0..2, else -1) and the offset the
+  /// model asked for on it (mm).
+  int saturationAxis = -1;
+  double saturationRequestedMm = 0.0;
   /// Error of the last failed port call in this cycle (read, write or connect), else empty.
   std::error_code error;
   bool stateChanged() const noexcept { return previous != state; }
@@ -82,6 +112,14 @@ struct LoopCounters {
   /// Times the limiter was re-seeded from the applied offsets because they departed from what
   /// this loop last wrote (the PLC ramped them out while the daemon was stopped or blocked).
   std::uint64_t resynchronisations = 0;
+  /// Writes that failed on a live link, so that the controller may have applied them.
+  std::uint64_t unknownOutcomes = 0;
+  /// Reads repeated because the read-to-write time exceeded its bound.
+  std::uint64_t lateReads = 0;
+  /// Cycles that read but wrote nothing (CycleReport::withheld).
+  std::uint64_t withheldWrites = 0;
+  /// Times the saturation warning started.
+  std::uint64_t saturationWarnings = 0;
 };
 
 class CompensationLoop {
@@ -108,6 +146,10 @@ class CompensationLoop {
 
   LoopState state() const noexcept { return state_; }
   FaultCode fault() const noexcept { return fault_; }
+  /// The fault held by the latch until acknowledged (None when nothing is latched).
+  FaultCode latchedFault() const noexcept { return latched_; }
+  /// The inputs of the last successful read.
+  const AxisSample& lastSample() const noexcept { return sample_; }
   /// Status word and offsets of the last command built (written or attempted).
   std::uint16_t lastStatus() const noexcept { return command_.status; }
   const std::array<double, 3>& lastOffsetMm() const noexcept { return command_.offsetMm; }
@@ -120,11 +162,33 @@ class CompensationLoop {
  private:
   using time_point = Clock::time_point;
 
+  /// What a cycle decided from its inputs, before the limiter.
+  struct Decision {
+    LoopState next = LoopState::Active;
+    FaultCode fault = FaultCode::None;
+    std::array<double, 3> targetMm{};
+    bool outOfTravel = false;
+    bool evaluated = false;  ///< the model gave a valid target this cycle
+    bool saturated = false;
+    /// The read-back is outside the band in this cycle (not merely a latched fault of it).
+    bool readbackOutside = false;
+  };
+
   void enterLinkLost(time_point now, CycleReport& report) noexcept;
   bool tryConnect(time_point now, CycleReport& report) noexcept;
   bool synchronise(time_point now) noexcept;
   void followController(time_point now, bool resumed) noexcept;
+  void adopt(const std::array<double, 3>& appliedMm) noexcept;
   FaultCode checkInputs(time_point now, std::array<double, 3>& qMm, bool& outOfTravel) noexcept;
+  Decision decide(time_point now, bool readFailed, CycleReport& report) noexcept;
+  void evaluateModel(time_point now, const std::array<double, 3>& qMm, Decision& d,
+                     CycleReport& report) noexcept;
+  void applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept;
+  bool readbackOutOfRange() const noexcept;
+  std::chrono::nanoseconds readToWriteBound(time_point readAt) const noexcept;
+  bool constrainToEnvelope(LimiterState& state, const LimiterState& before,
+                           double dtS) const noexcept;
+  std::uint16_t statusWord(const Decision& d, const LimiterOutput& out, time_point now) noexcept;
   void writeCommand(time_point now, std::uint16_t status, CycleReport& report) noexcept;
 
   ControllerPort& port_;
@@ -134,11 +198,16 @@ class CompensationLoop {
 
   LoopState state_ = LoopState::Starting;
   FaultCode fault_ = FaultCode::None;
+  FaultCode latched_ = FaultCode::None;
   bool synced_ = false;
   bool everConnected_ = false;
   bool stopRequested_ = false;
+  bool stopDeadlineSet_ = false;
   bool reloadFailed_ = false;
   bool lastWriteFailed_ = false;
+  bool sentAny_ = false;
+  bool lastEnable_ = false;
+  bool lastAck_ = false;
 
   AxisSample sample_{};
   OffsetCommand command_{};
@@ -146,9 +215,22 @@ class CompensationLoop {
   DirectionTracker tracker_;
   LoopCounters counters_{};
 
+  /// Writes with an unknown outcome since the last acknowledged one: the controller applies a
+  /// value in [envelopeLowMm_, envelopeHighMm_] per axis (the hull of the acknowledged value and
+  /// every value attempted since).
+  bool uncertain_ = false;
+  std::array<double, 3> envelopeLowMm_{};
+  std::array<double, 3> envelopeHighMm_{};
+
+  /// Per axis: since when the model's target has been outside the clamp band (clamping_).
+  std::array<bool, 3> clamping_{};
+  std::array<time_point, 3> clampSince_{};
+  bool saturationWarned_ = false;
+
   std::chrono::nanoseconds backoff_{0};
   time_point nextConnectAttempt_{};
-  time_point lastWriteTime_{};
+  time_point lastWriteTime_{};  // last acknowledged write
+  time_point lastSentTime_{};   // last write sent (acknowledged or not)
   time_point lastInputChange_{};
   time_point reconnectedUntil_{};
   time_point reloadedUntil_{};

@@ -18,8 +18,13 @@ enum class PositionSemantics : std::uint8_t {
   Actual,
 };
 
+/// Rounding of a read-back register: one count of a 0.1 um register (mm), the default of
+/// LoopSettings::readbackResolutionMm.
+inline constexpr double kReadbackResolutionMm = 1e-4;
+
 struct LoopSettings {
-  /// Nominal cycle period; also the dt of the limiter (so the rate limit holds per cycle).
+  /// Nominal cycle period. The limiter's dt is the measured time since the last write sent,
+  /// capped at this period.
   std::chrono::nanoseconds period = std::chrono::milliseconds(10);
   PositionSemantics semantics = PositionSemantics::Commanded;
   LimiterSettings limiter;
@@ -31,6 +36,24 @@ struct LoopSettings {
   /// known zero once nothing has been written for `plcZeroAfter`.
   bool offsetReadback = true;
   std::chrono::nanoseconds plcZeroAfter{0};
+  /// Rounding of the applied-offset read-back (mm, one register count): the tolerance of the
+  /// band check of a read-back and of the comparison with what the loop wrote.
+  double readbackResolutionMm = kReadbackResolutionMm;
+  /// Longest time from the start of a cycle's read to its write. A cycle that takes longer
+  /// (stopped, starved, a slow transaction) reads again; if the second read is late too it writes
+  /// nothing. A cycle that adopts a read-back (at start, after a silence of more than two
+  /// periods) allows at most one period. Derived from the PLC's heartbeat timeout by the daemon.
+  std::chrono::nanoseconds readToWriteMax = std::chrono::milliseconds(25);
+  /// Longest stop: the ramp-out gives up after min(2 x ramp time + 1 s, this); below the
+  /// service's stop timeout.
+  std::chrono::nanoseconds stopTimeout = std::chrono::seconds(14);
+  /// Sustained limiting: the clamp holding an axis for longer than `saturationWarning` sets
+  /// SATURATED (and the daemon logs it); longer than `saturationFault` is the fault
+  /// SustainedLimit. Zero disables the respective stage.
+  std::chrono::nanoseconds saturationWarning = std::chrono::seconds(1);
+  std::chrono::nanoseconds saturationFault = std::chrono::seconds(10);
+  /// Latch every fault but a failed transaction until the controller acknowledges it.
+  bool faultLatch = true;
   std::chrono::nanoseconds reconnectInitial = std::chrono::milliseconds(100);
   std::chrono::nanoseconds reconnectMax = std::chrono::seconds(2);
   /// How long the RECONNECTED and MODEL_RELOADED status bits stay set.

@@ -23,6 +23,10 @@ struct AxisSample {
   /// loop faults with "stale input" when it stops changing for longer than the stale timeout.
   bool hasSequence = false;
   std::uint16_t sequence = 0;
+  /// The controller's fault acknowledge input, when the installation maps one: a rising edge
+  /// clears a latched fault.
+  bool hasFaultAck = false;
+  bool faultAck = false;
 };
 
 /// Everything written in one transaction.

@@ -12,7 +12,11 @@
 ///   bit 6  MODEL_RELOADED a new model/config was taken over less than 1 s ago
 ///   bit 7  RELOAD_FAILED  the last reload was rejected; the previous model is still in use
 ///   bit 8  STOPPING       the daemon is shutting down: offsets ramp to zero
-///   bits 9..11            reserved, always 0
+///   bit 9  SATURATED      the clamp (not the slew) has held an axis at its max offset for longer
+///                         than the saturation warning time (the model asks for more than allowed)
+///   bit 10 LATCHED        a fault is latched: it stays until the controller acknowledges it
+///                         (rising edge of the fault-ack input, or the enable input switched off)
+///   bit 11                reserved, always 0
 ///   bits 12..15           fault code (FaultCode), 0 when no fault
 /// A status of 0 with zero offsets is what the daemon writes last when it stops ("inactive").
 
@@ -31,6 +35,8 @@ inline constexpr std::uint16_t kOutOfTravel = 1u << 5;
 inline constexpr std::uint16_t kModelReloaded = 1u << 6;
 inline constexpr std::uint16_t kReloadFailed = 1u << 7;
 inline constexpr std::uint16_t kStopping = 1u << 8;
+inline constexpr std::uint16_t kSaturated = 1u << 9;
+inline constexpr std::uint16_t kLatched = 1u << 10;
 inline constexpr int kFaultCodeShift = 12;
 inline constexpr std::uint16_t kFaultCodeMask = 0xF000u;
 }  // namespace status
@@ -51,7 +57,18 @@ enum class FaultCode : std::uint8_t {
   NotConverged = 5,
   /// A read or write transaction failed on a live link (timeout, exception reply).
   TransactionError = 6,
+  /// The clamp held an axis at its max offset for longer than the saturation fault time.
+  SustainedLimit = 7,
+  /// The controller reports applied offsets outside +-max_offset: nothing is written while it
+  /// does (the controller's own heartbeat watchdog removes them).
+  ReadbackOutOfRange = 8,
 };
+
+/// True for faults that the fault latch holds until acknowledged: every fault except a failed
+/// transaction (a transport fault clears once the controller answers again).
+constexpr bool latchable(FaultCode code) noexcept {
+  return code != FaultCode::None && code != FaultCode::TransactionError;
+}
 
 /// Stable lower-case name, e.g. "stale-input" ("none" for None).
 std::string_view faultName(FaultCode code) noexcept;

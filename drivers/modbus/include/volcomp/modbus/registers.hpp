@@ -87,7 +87,9 @@ struct RegisterMap {
   std::array<ValueRegister, 3> position{};  ///< axis positions X, Y, Z (inputs)
   BitRegister enable;                       ///< compensation enable (input)
   BitRegister homed;                        ///< all axes homed (input)
-  std::optional<WordRegister> sequence;     ///< controller life counter (input)
+  /// Fault acknowledge (input), when mapped: a rising edge clears a latched fault.
+  std::optional<BitRegister> faultAck;
+  std::optional<WordRegister> sequence;  ///< controller life counter (input)
   /// Offsets the controller currently applies (inputs), when mapped.
   std::optional<std::array<ValueRegister, 3>> appliedOffset;
   std::array<ValueRegister, 3> offset{};  ///< compensation offsets X, Y, Z (holding outputs)

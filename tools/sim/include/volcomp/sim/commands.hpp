@@ -4,10 +4,17 @@
 ///   stall [S]            receive requests but never answer (for S seconds; none/0 = until resume)
 ///   drop-link [S]        close the connection and refuse new ones (RTU: stay silent)
 ///   exception CODE [S]   answer every request with Modbus exception CODE (1..11)
+///   garble-readback MM [S]  the X applied-offset read-back reports MM (what is applied is
+///                        unchanged)
 ///   freeze [S]           the input registers keep their last values while the machine moves on
 ///   hold [S]             feed hold: the machine stops on its path
+///   late-reply S [N]     apply the next N writes (default 1) but answer each S seconds late
+///   no-reply [N]         apply the next N writes (default 1) but never answer them
+///   pause-client PID S   before answering the next read, stop process PID (SIGSTOP) and continue
+///                        it (SIGCONT) S seconds later: stopped between its read and its write
 ///   enable on|off        the compensation enable input
 ///   homed on|off         the homed input
+///   ack on|off           the fault-acknowledge input
 ///   resume               end stall, drop-link, exception, freeze and hold
 ///   status               print "STATUS " and the report so far (one line) on stdout
 ///   quit                 end the run now (report and exit)
@@ -21,10 +28,29 @@
 namespace volcomp::sim {
 
 struct Command {
-  enum class Kind { Stall, DropLink, Exception, Freeze, Hold, Enable, Homed, Resume, Status, Quit };
+  enum class Kind {
+    Stall,
+    DropLink,
+    Exception,
+    Freeze,
+    Hold,
+    LateReply,
+    NoReply,
+    PauseClient,
+    GarbleReadback,
+    Enable,
+    Homed,
+    Ack,
+    Resume,
+    Status,
+    Quit
+  };
   Kind kind = Kind::Resume;
   double durationS = 0.0;
   int exceptionCode = 0;
+  int count = 1;         ///< late-reply, no-reply: number of writes
+  int pid = 0;           ///< pause-client
+  double valueMm = 0.0;  ///< garble-readback
   bool on = true;
 };
 

@@ -8,10 +8,12 @@
 /// - a TRUE error model E(q) = p(q) - p0(q) (mm, workpiece frame), evaluated with the direction in
 ///   which each axis last moved, gives the tool-tip error:
 ///   uncompensated E(q), compensated p(q + o) - p0(q) = E(q + o) + o (p0 is linear in q);
-/// - every write is recorded and checked against the configured limits (|o| <= max_offset,
-///   |o - o_prev| <= max_rate * (max(dt, cycle) + rate_tolerance), plus register rounding);
-/// - faults (stall, link drop, exception replies, frozen registers, feed hold, enable/homed) are
-///   set by commands and read by the transport.
+/// - every write is recorded and checked against the configured limits, per axis, with the time
+///   the controller measures between the writes it applies (|o| <= max_offset,
+///   |o - o_applied| <= max_rate * (min(dt, cycle) + rate_tolerance), plus register rounding);
+/// - faults (stall, link drop, exception replies, late or lost replies to writes that are
+///   applied all the same, a client stopped between its read and its write, frozen registers,
+///   feed hold, enable/homed/fault-ack) are set by commands and read by the transport.
 /// Time is seconds on the caller's clock (monotonic); every method is thread-safe.
 
 #include <array>
@@ -38,17 +40,21 @@ using MotionDirections = std::array<int, 3>;
 using ErrorFunction = std::function<Vec3(const Vec3&, const MotionDirections&)>;
 
 struct Limits {
-  double maxOffsetMm = std::numeric_limits<double>::infinity();
-  double maxRateMmS = std::numeric_limits<double>::infinity();
-  /// Timing jitter allowed in the rate check (the writer's dt may differ from the observed one).
+  /// Per axis X, Y, Z.
+  Vec3 maxOffsetMm{kUnlimited, kUnlimited, kUnlimited};
+  Vec3 maxRateMmS{kUnlimited, kUnlimited, kUnlimited};
+  /// Timing jitter allowed in the rate check (the writer measures its dt when it sends, the
+  /// controller when it applies).
   double rateToleranceS = 0.005;
   /// One register count of each offset output (mm): quantisation allowed in both checks.
   Vec3 quantumMm{};
-  /// The writer's cycle period: any write (the first of a session included, and the first after
-  /// a gap) may step from the applied offset by one limiter step, max_rate * (cycle + tolerance);
-  /// by two steps plus loop::kReadbackResolutionMm when the controller changed the offsets itself
-  /// (watchdog ramp) since the previous write.
+  /// The writer's cycle period. A write may step from the applied offset by
+  /// max_rate * (min(dt, cycle) + tolerance), dt the time since the previous write applied (the
+  /// first write: one cycle): late cycles cannot bunch steps, and a gap (a stall, a lost link, a
+  /// new session) allows one cycle's step at most. One step more plus loop::kReadbackResolutionMm
+  /// when the controller changed the offsets itself (watchdog ramp) since the previous write.
   double cycleS = 0.01;
+  static constexpr double kUnlimited = std::numeric_limits<double>::infinity();
 };
 
 struct MachineOptions {
@@ -56,9 +62,9 @@ struct MachineOptions {
   Limits limits;
   /// Offsets the controller applies at start (left over from an earlier run), mm.
   Vec3 initialOffsetMm{};
-  /// Controller-side heartbeat watchdog: when the heartbeat has not changed for this long (and at
-  /// least one write was seen), the controller ramps the offsets to zero at `watchdogRampMmS`.
-  /// 0 = no watchdog.
+  /// Controller-side heartbeat watchdog: when the heartbeat has not changed for this long (counted
+  /// from the start when nothing was written yet), the controller ramps the offsets to zero at
+  /// `watchdogRampMmS`. 0 = no watchdog.
   double heartbeatTimeoutS = 0.0;
   double watchdogRampMmS = 1.0;
   /// Statistics start this long after the first write.
@@ -86,6 +92,19 @@ struct TransportFault {
   int exceptionCode = 0;  ///< answer every request with this Modbus exception (0 = none)
 };
 
+/// What happens to the reply of one write request (the write itself is applied).
+struct WriteReply {
+  bool drop = false;    ///< never answered
+  double delayS = 0.0;  ///< answered this late
+};
+
+/// A client to stop (SIGSTOP) before the reply to its next read request, and continue (SIGCONT)
+/// after `seconds`: the process is stopped between its read and its write, deterministically.
+struct ClientPause {
+  int pid = 0;  ///< 0 = none
+  double seconds = 0.0;
+};
+
 struct ErrorStatistics {
   std::uint64_t samples = 0;
   double sumSqNorm = 0.0;
@@ -110,6 +129,11 @@ class Machine {
   TransportFault transportFault(double tS);
   /// Counts a request the transport answered (or dropped, or answered with an exception).
   void countRequest(bool answered, bool exception);
+  /// The fate of the reply to the write request being handled (consumes a late-reply or no-reply
+  /// fault).
+  WriteReply takeWriteReply();
+  /// A pause of the client to apply before answering the read request being handled (consumed).
+  ClientPause takeClientPause();
 
   // Simulation side -------------------------------------------------------------------------
   /// Advances the machine to t and samples the tool-tip error (call at a fixed rate).
@@ -123,6 +147,16 @@ class Machine {
   void hold(double tS, double durationS);
   void setEnable(bool on);
   void setHomed(bool on);
+  void setFaultAck(bool on);
+  /// The X applied-offset read-back reports `mm` (a garbled reply) for durationS.
+  void garbleReadback(double tS, double mm, double durationS);
+  /// The next `count` write requests are applied and answered `delayS` late (after the client's
+  /// response timeout, when longer).
+  void lateReplies(double delayS, int count);
+  /// The next `count` write requests are applied and never answered.
+  void dropReplies(int count);
+  /// Stops process `pid` before answering its next read request, for `seconds`.
+  void pauseClient(int pid, double seconds);
   void resume();
 
   /// The report (see volcomp-sim's documentation for the keys).
@@ -148,16 +182,23 @@ class Machine {
   Vec3 applied_{};
   bool enable_ = true;
   bool homed_ = true;
+  bool faultAck_ = false;
+  double lateReplyS_ = 0.0;
+  int lateReplies_ = 0;
+  int droppedReplies_ = 0;
+  ClientPause pause_;
   std::uint16_t sequence_ = 0;
   loop::AxisSample frozenSample_{};
 
   double stallUntil_ = 0.0, dropUntil_ = 0.0, exceptionUntil_ = 0.0, freezeUntil_ = 0.0,
-         holdUntil_ = 0.0;
+         holdUntil_ = 0.0, garbleUntil_ = 0.0;
+  double garbleMm_ = 0.0;
   int exceptionCode_ = 0;
 
   bool controllerChanged_ = false;  // the watchdog ramp moved applied_ since the last write
   bool anyWrite_ = false;
   double firstWriteT_ = 0.0;
+  double lastWriteT_ = 0.0;
   std::uint16_t lastHeartbeat_ = 0;
   double lastHeartbeatChangeT_ = 0.0;
   bool watchdogTripped_ = false;
@@ -170,6 +211,7 @@ class Machine {
   std::string firstViolation_;
   Vec3 maxAbsWrittenMm_{};
   std::uint64_t sessions_ = 0, requests_ = 0, unanswered_ = 0, exceptionsSent_ = 0;
+  std::uint64_t lateRepliesSent_ = 0, repliesDropped_ = 0, clientPauses_ = 0;
   ErrorStatistics uncompensated_, compensated_;
 };
 

@@ -11,6 +11,8 @@
 ///           | {"type": "csv", "file": "path.csv", "feed_mm_min": 3000},
 ///     "limits": {"max_offset_mm": 0.5, "max_rate_mm_s": 1.0, "rate_tolerance_ms": 5,
 ///                "cycle_ms": 10},                 the daemon's limiter settings and cycle period
+///                                          (max_offset_mm, max_rate_mm_s: a number or
+///                                          {"X": .., "Y": .., "Z": ..})
 ///     "heartbeat_timeout_ms": 0,           controller-side watchdog, 0 = none
 ///     "watchdog_ramp_mm_s": 1.0,           rate at which the watchdog removes the offsets
 ///     "initial_offset_mm": [0, 0, 0],      offsets applied at start (left from an earlier run)

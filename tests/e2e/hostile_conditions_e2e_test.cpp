@@ -1,0 +1,142 @@
+// Whole processes, issue 13 "found under hostile conditions": a read-back of the applied offsets
+// outside +-max_offset (left over by an earlier run, or a garbled reply) is a fault of its own and
+// is never taken over, never written past the band, and does not hold a stop; a reload blocked on
+// file I/O (a FIFO as the model) does not hold a stop either.
+
+#include <sys/stat.h>
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "process_fixture.hpp"
+
+namespace volcomp::e2e {
+namespace {
+
+class HostileConditions : public ProcessTest {
+ protected:
+  json simWith(double heartbeatTimeoutMs) const {
+    json s = simConfig(exampleFile("vmc-xyfz-21.json"), 0);
+    s["limits"]["max_offset_mm"] = kMaxOffsetMm;
+    s["limits"]["max_rate_mm_s"] = kMaxRateMmS;
+    s["heartbeat_timeout_ms"] = heartbeatTimeoutMs;
+    s["watchdog_ramp_mm_s"] = 0.5;
+    return s;
+  }
+  json daemonFor(const Listening& at) const {
+    json d = daemonConfig(at, exampleFile("vmc-xyfz-21.json"));
+    d["limiter"]["max_offset_mm"] = kMaxOffsetMm;
+    d["limiter"]["max_rate_mm_s"] = kMaxRateMmS;
+    return d;
+  }
+  /// Nothing past the band, no step beyond the limiter, in the record and by the simulator.
+  void expectRecordWithinLimits(const json& report) const {
+    EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
+    expectWritesWithinLimits(record(), kMaxOffsetMm, kMaxRateMmS, 0.010);
+  }
+
+  static constexpr double kMaxOffsetMm = 0.1;
+  static constexpr double kMaxRateMmS = 0.5;
+};
+
+// The controller holds 0.15 mm on X from an earlier run with other limits; this daemon allows
+// 0.1 mm. It logs the fault, writes nothing while the read-back is outside the band (its
+// heartbeat stays silent, so the controller's watchdog removes the offsets at its own rate), and
+// continues from the read-back once it is inside: its first write is within the band and one
+// step from what is applied.
+TEST_F(HostileConditions, LeftOverOffsetOutsideTheBandIsNeverTakenOver) {
+  json s = simWith(300.0);
+  s["initial_offset_mm"] = {0.15, 0.01, 0.0};
+  const Listening at = startSim(s, {"--port", "0"});
+  startDaemon(daemonFor(at));
+  ASSERT_TRUE(daemon_->waitForStderr("readback-out-of-range", 15s)) << daemonLog();
+  ASSERT_TRUE(waitForMoreWrites(*sim_, 50, 20s)) << daemonLog();
+  const json report = finishSim();
+  stopDaemon();
+  expectRecordWithinLimits(report);
+  const auto rows = record();
+  ASSERT_FALSE(rows.empty());
+  EXPECT_LE(std::abs(rows.front().offsetMm[0]), kMaxOffsetMm + kQuantumMm);
+  EXPECT_GE(report["watchdog_trips"].get<int>(), 1);
+  const std::string log = daemonLog();
+  EXPECT_NE(log.find("+0.1500"), std::string::npos) << "the log names the value read back\n" << log;
+}
+
+// While active, the X read-back reports 150 mm for 0.6 s (a garbled reply): fault, nothing
+// written meanwhile (the writes stop), no write past the band ever; afterwards the loop continues
+// from the read-back. With the latch the fault stays until acknowledged (here: enable toggled).
+TEST_F(HostileConditions, GarbledReadBackWhileActiveWritesNothingAndNeverPastTheBand) {
+  const Listening at = startSim(simWith(300.0), {"--port", "0"});
+  startDaemon(daemonFor(at));
+  ASSERT_TRUE(waitForAppliedOffset(0.003)) << daemonLog();
+  sim_->writeLine("garble-readback 150 0.6");
+  ASSERT_TRUE(daemon_->waitForStderr("fault: readback-out-of-range", 10s)) << daemonLog();
+  ASSERT_TRUE(waitForMoreWrites(*sim_, 30, 20s)) << daemonLog();  // after the garble
+  sim_->writeLine("enable off");
+  ASSERT_TRUE(waitForMoreWrites(*sim_, 5)) << daemonLog();
+  sim_->writeLine("enable on");
+  ASSERT_TRUE(waitForMoreWrites(*sim_, 30)) << daemonLog();
+  const json report = finishSim();
+  stopDaemon();
+  expectRecordWithinLimits(report);
+  const auto rows = record();
+  std::size_t gap = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    if (rows[i].tS - rows[i - 1].tS > 0.4) gap = i;
+  }
+  EXPECT_GT(gap, 0U) << "no writes while the read-back was garbled";
+  EXPECT_NE(daemonLog().find("latched fault acknowledged"), std::string::npos) << daemonLog();
+  EXPECT_TRUE(rows.back().status & kActive);
+}
+
+// SIGTERM while the read-back stays garbled: nothing can be written, and the stop ends at its
+// bounded deadline (here 2 x ramp + 1 s of the daemon's own offsets), not after a 300 s ramp from
+// 150 mm; exit 0.
+TEST_F(HostileConditions, StopWithAGarbledReadBackEndsInBoundedTime) {
+  const Listening at = startSim(simWith(0.0), {"--port", "0"});
+  startDaemon(daemonFor(at));
+  ASSERT_TRUE(waitForAppliedOffset(0.003)) << daemonLog();
+  sim_->writeLine("garble-readback 150");
+  ASSERT_TRUE(daemon_->waitForStderr("readback-out-of-range", 10s)) << daemonLog();
+  daemon_->signal(SIGTERM);
+  EXPECT_EQ(daemon_->waitExit(12s), 0) << daemonLog();
+  const json report = finishSim();
+  expectRecordWithinLimits(report);
+}
+
+// The configuration's model becomes a FIFO nobody writes to (a model on a hung mount): SIGHUP
+// starts a reload that blocks in open(). SIGTERM must still ramp out, write zero with status 0
+// and exit 0, whatever the reload is doing.
+TEST_F(HostileConditions, StopRampsOutAndExitsWhileAReloadBlocksOnAFifo) {
+  const Listening at = startSim(simWith(0.0), {"--port", "0"});
+  json d = daemonFor(at);
+  startDaemon(d);
+  ASSERT_TRUE(waitForAppliedOffset(0.003)) << daemonLog();
+  const std::string fifo = path("model.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  d["model"] = fifo;
+  writeJson("volcompd.json", d);
+  daemon_->signal(SIGHUP);
+  ASSERT_TRUE(daemon_->waitForStderr("reloading configuration and model", 10s)) << daemonLog();
+  daemon_->signal(SIGHUP);  // remembered behind the blocked one, not a second thread
+  ASSERT_TRUE(daemon_->waitForStderr("it follows that one", 10s)) << daemonLog();
+  daemon_->signal(SIGTERM);
+  EXPECT_EQ(daemon_->waitExit(10s), 0) << daemonLog();
+  ASSERT_TRUE(waitForSim(
+      [](const json& s) {
+        return largestAbs(s["applied_offset_mm"].get<std::array<double, 3>>()) == 0.0;
+      },
+      5s));
+  const json report = finishSim();
+  expectRecordWithinLimits(report);
+  const auto rows = record();
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows.back().status, 0U);
+  EXPECT_EQ(largestAbs(rows.back().offsetMm), 0.0);
+}
+
+}  // namespace
+}  // namespace volcomp::e2e

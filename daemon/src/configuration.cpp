@@ -3,9 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <utility>
-#include <variant>
 
-#include "volcomp/config/config_error.hpp"
 #include "volcomp/config/model_file.hpp"
 
 namespace volcomp::daemon {
@@ -25,15 +23,9 @@ LoadedConfiguration loadConfiguration(const std::string& configPath) {
 }
 
 std::shared_ptr<loop::CompensationModel> loadCompensationModel(const std::string& path) {
-  config::ModelDocument document = config::loadModelFile(path);
-  auto* spec = std::get_if<model::MachineModelSpec>(&document.spec);
-  if (spec == nullptr) {
-    throw config::ConfigError(path, "chain",
-                              "the daemon compensates 3-axis machine models; a D-H chain file "
-                              "cannot be used for live compensation");
-  }
-  std::string name = spec->name.empty() ? path : spec->name;
-  return std::make_shared<loop::MachineModelCompensation>(model::MachineModel(std::move(*spec)),
+  model::MachineModelSpec spec = config::loadMachineModelFile(path, "live compensation");
+  std::string name = spec.name.empty() ? path : spec.name;
+  return std::make_shared<loop::MachineModelCompensation>(model::MachineModel(std::move(spec)),
                                                           std::move(name));
 }
 

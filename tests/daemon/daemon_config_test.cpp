@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "temp_dir.hpp"
+#include "temp_files.hpp"
 
 namespace volcomp::config {
 namespace {
@@ -214,7 +214,7 @@ TEST(DaemonConfig, RejectsNonFiniteNumbers) {
 }
 
 TEST(DaemonConfig, FileErrorsNameTheFile) {
-  volcomp::daemon::testing::TempDir dir;
+  volcomp::testing::TempDir dir;
   const std::string missing = (dir.path() / "absent.json").string();
   try {
     loadDaemonConfig(missing);

@@ -29,6 +29,10 @@ packages=(
   libclang-rt-14-dev llvm
   # the LinuxCNC adapter: hal.h and liblinuxcnchal for volcompd's HAL userspace component
   linuxcnc-uspace-dev
+  # the Debian package (cpack -G DEB, tests/package): man pages from --help, Depends from the
+  # shared libraries (dpkg-shlibdeps, which CPack finds ELF files for with `file`), groff to
+  # check the man pages
+  help2man dpkg-dev file groff-base
 )
 
 SUDO=""

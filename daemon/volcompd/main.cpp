@@ -102,7 +102,8 @@ int run(const std::string& configPath, bool checkOnly, bool verbose) {
 
 int main(int argc, char** argv) {
   setUpLogging();
-  CLI::App app{"volcompd: live volumetric error compensation daemon"};
+  CLI::App app{"volcompd: live volumetric error compensation daemon", "volcompd"};
+  app.set_version_flag("--version", std::string("volcompd ") + VOLCOMP_VERSION);
   std::string configPath;
   bool checkOnly = false;
   bool verbose = false;

@@ -46,6 +46,9 @@ expected=(
   /usr/bin/volcomp /usr/bin/volcomp-sim /usr/sbin/volcompd
   /usr/lib/systemd/system/volcompd.service
   /usr/share/doc/volcomp/systemd/volcompd-realtime.conf
+  /usr/share/doc/volcomp/systemd/volcompd-linuxcnc.conf
+  /usr/share/doc/volcomp/examples/linuxcnc/volcomp.ini
+  /usr/share/doc/volcomp/examples/linuxcnc/volcomp.hal
   /usr/share/doc/volcomp/README.md /usr/share/doc/volcomp/docs/daemon.md
   /usr/share/doc/volcomp/docs/model.md
   /usr/share/doc/volcomp/examples/README.md

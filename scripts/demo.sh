@@ -22,7 +22,7 @@ build="${BUILD_DIR:-$root/build}"
 examples="$root/config/examples"
 seconds="${1:-10}"
 sim="$build/tools/sim/volcomp-sim"
-daemon="$build/daemon/volcompd"
+daemon="$build/daemon/volcompd/volcompd"
 cli="$build/tools/cli/volcomp"
 report_file="$(realpath -m "${DEMO_REPORT:-$build/demo-report.html}")"
 

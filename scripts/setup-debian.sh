@@ -17,6 +17,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev socat python3 systemd
   # the report opened in a headless browser
   chromium
+  # the platform's pacing baseline beside the daemon's latency figures (bench/daemon/run_latency.sh)
+  rt-tests
   # CAN tests in a QEMU guest (this kernel may have no CAN): emulator, busybox, can-utils
   qemu-system-x86 busybox-static can-utils
   # controller-table tests: LinuxCNC 2.9 (headless, simulated machine; python3 linuxcnc and hal
@@ -27,6 +29,10 @@ packages=(
   libclang-rt-14-dev llvm
   # the LinuxCNC adapter: hal.h and liblinuxcnchal for volcompd's HAL userspace component
   linuxcnc-uspace-dev
+  # the Debian package (cpack -G DEB, tests/package): man pages from --help, Depends from the
+  # shared libraries (dpkg-shlibdeps, which CPack finds ELF files for with `file`), groff to
+  # check the man pages
+  help2man dpkg-dev file groff-base
 )
 
 SUDO=""

@@ -1,4 +1,4 @@
-// One cycle of the daemon without I/O (the fakes from tests/daemon stand in for the controller):
+// One cycle of the daemon without I/O (the fakes from tests/loop stand in for the controller):
 // what the loop itself adds to a transaction that costs ~15-20 us on loopback Modbus TCP.
 #include <benchmark/benchmark.h>
 
@@ -6,13 +6,15 @@
 #include <string>
 
 #include "fakes.hpp"
+#include "volcomp/daemon/configuration.hpp"
 #include "volcomp/loop/compensation_loop.hpp"
 #include "volcomp/loop/limiter.hpp"
 
 namespace {
 
-using namespace volcomp::daemon;
-using namespace volcomp::daemon::testing;
+using namespace volcomp::loop;
+using namespace volcomp::loop::testing;
+using volcomp::daemon::loadCompensationModel;
 
 LoopSettings benchSettings() {
   LoopSettings s;

@@ -15,15 +15,8 @@ struct Context {
 
 // A deviation is a number or, in a calibration template, {"identify": ..., "start": number}.
 double readDeviation(const JsonReader& node, double factor, const Context& ctx) {
-  if (node.isObject() && node.has("identify")) {
-    if (!ctx.options.allowIdentify) {
-      throw ConfigError(node.file(), node.childPath("identify"),
-                        "unknown key (\"identify\" is allowed in calibration templates only)");
-    }
-    node.allowOnly({"identify", "start"});
-    ctx.doc.identify[node.path()] = node.at("identify").json();
-    const auto start = node.find("start");
-    return start ? start->number() * factor : 0.0;
+  if (const auto block = readIdentifyBlock(node, ctx.options, ctx.doc)) {
+    return block->start ? block->start->number() * factor : 0.0;
   }
   if (!node.isNumber()) node.failExpected("a number");
   return node.number() * factor;
@@ -37,15 +30,8 @@ Eigen::Vector3d readTriple(const JsonReader& node, double factor, const std::str
 
 Eigen::Vector3d readDeviationTriple(const JsonReader& node, double factor,
                                     const std::string& expected, const Context& ctx) {
-  if (node.isObject() && node.has("identify")) {
-    if (!ctx.options.allowIdentify) {
-      throw ConfigError(node.file(), node.childPath("identify"),
-                        "unknown key (\"identify\" is allowed in calibration templates only)");
-    }
-    node.allowOnly({"identify", "start"});
-    ctx.doc.identify[node.path()] = node.at("identify").json();
-    const auto start = node.find("start");
-    return start ? readTriple(*start, factor, expected) : Eigen::Vector3d::Zero();
+  if (const auto block = readIdentifyBlock(node, ctx.options, ctx.doc)) {
+    return block->start ? readTriple(*block->start, factor, expected) : Eigen::Vector3d::Zero();
   }
   return readTriple(node, factor, expected);
 }

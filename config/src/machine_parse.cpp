@@ -42,20 +42,6 @@ std::vector<double> scaled(std::vector<double> values, double factor) {
   return values;
 }
 
-// Without allowIdentify an "identify" block is an unknown key like any other; say where it is
-// allowed so that a template loaded by mistake is recognised.
-void rejectIdentify(const JsonReader& node, const Context& ctx) {
-  if (!ctx.options.allowIdentify && node.has("identify")) {
-    throw ConfigError(node.file(), node.childPath("identify"),
-                      "unknown key (\"identify\" is allowed in calibration templates only)");
-  }
-}
-
-bool isIdentifyBlock(const JsonReader& node, const Context& ctx) {
-  rejectIdentify(node, ctx);
-  return ctx.options.allowIdentify && node.has("identify");
-}
-
 model::Interpolation readInterpolation(const JsonReader& node) {
   const std::string s = node.oneOf({"linear", "quadratic", "cubic"});
   if (s == "quadratic") return model::Interpolation::Quadratic;
@@ -91,19 +77,6 @@ ErrorFunctionSpec readTable(const JsonReader& node, double factor) {
   return table;
 }
 
-ErrorFunctionSpec readErrorFunction(const JsonReader& node, double factor, const Context& ctx);
-
-ErrorFunctionSpec readIdentify(const JsonReader& node, double factor, const Context& ctx) {
-  node.allowOnly({"identify", "start"});
-  ctx.doc.identify[node.path()] = node.at("identify").json();
-  if (const auto start = node.find("start")) {
-    if (start->isObject() && start->has("identify"))
-      start->fail("a start value cannot be identified");
-    return readErrorFunction(*start, factor, ctx);
-  }
-  return 0.0;
-}
-
 ErrorFunctionSpec readErrorFunction(const JsonReader& node, double factor, const Context& ctx) {
   if (node.isNumber()) return node.number() * factor;
   if (!node.isObject()) {
@@ -111,7 +84,12 @@ ErrorFunctionSpec readErrorFunction(const JsonReader& node, double factor, const
         "a number, a table {\"positions\", \"values\", \"interpolation\"} or "
         "{\"polynomial\": [c0, c1, ...]}");
   }
-  if (isIdentifyBlock(node, ctx)) return readIdentify(node, factor, ctx);
+  if (const auto block = readIdentifyBlock(node, ctx.options, ctx.doc)) {
+    if (!block->start) return 0.0;
+    if (block->start->isObject() && block->start->has("identify"))
+      block->start->fail("a start value cannot be identified");
+    return readErrorFunction(*block->start, factor, ctx);
+  }
   if (node.has("polynomial")) {
     node.allowOnly({"polynomial"});
     const JsonReader coefficients = node.at("polynomial");
@@ -123,13 +101,8 @@ ErrorFunctionSpec readErrorFunction(const JsonReader& node, double factor, const
 }
 
 double readLocation(const JsonReader& node, double factor, const Context& ctx) {
-  if (node.isObject()) {
-    if (isIdentifyBlock(node, ctx)) {
-      node.allowOnly({"identify", "start"});
-      ctx.doc.identify[node.path()] = node.at("identify").json();
-      const auto start = node.find("start");
-      return start ? start->number() * factor : 0.0;
-    }
+  if (const auto block = readIdentifyBlock(node, ctx.options, ctx.doc)) {
+    return block->start ? block->start->number() * factor : 0.0;
   }
   if (!node.isNumber()) {
     node.failExpected("a number (a location error is a constant angle)");
@@ -257,6 +230,18 @@ const std::array<std::string, 18>& motionNames() {
 }
 const std::array<std::string, 9>& locationNames() {
   return kLocationNames;
+}
+
+std::optional<IdentifyBlock> readIdentifyBlock(const JsonReader& node, const ParseOptions& options,
+                                               ModelDocument& doc) {
+  if (!node.isObject() || !node.has("identify")) return std::nullopt;
+  if (!options.allowIdentify) {
+    throw ConfigError(node.file(), node.childPath("identify"),
+                      "unknown key (\"identify\" is allowed in calibration templates only)");
+  }
+  node.allowOnly({"identify", "start"});
+  doc.identify[node.path()] = node.at("identify").json();
+  return IdentifyBlock{node.find("start")};
 }
 
 std::vector<double> readIncreasing(const JsonReader& node, std::size_t minCount) {

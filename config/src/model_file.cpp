@@ -39,4 +39,16 @@ ModelDocument loadModelFile(const std::string& path, const ParseOptions& options
   return parseModel(readJsonFile(path), path, options);
 }
 
+model::MachineModelSpec loadMachineModelFile(const std::string& path, const std::string& user) {
+  ModelDocument document = loadModelFile(path);
+  auto* spec = std::get_if<model::MachineModelSpec>(&document.spec);
+  if (spec == nullptr) {
+    throw ConfigError(path, "chain",
+                      user +
+                          " needs a 3-axis machine model (topology and components); a D-H "
+                          "chain file cannot be used");
+  }
+  return std::move(*spec);
+}
+
 }  // namespace volcomp::config

@@ -6,7 +6,6 @@
 #include <optional>
 #include <sstream>
 #include <utility>
-#include <variant>
 
 #include "volcomp/config/calibration_record.hpp"
 #include "volcomp/config/config_error.hpp"

@@ -3,14 +3,17 @@
 // Exit status: 0 after a clean stop or a good --check-config, 1 on a runtime failure, 2 on bad
 // arguments or a bad configuration/model file.
 
-#include <spdlog/pattern_formatter.h>
 #include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/sinks/systemd_sink.h>
 #include <spdlog/spdlog.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <asio/io_context.hpp>
 #include <asio/signal_set.hpp>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <memory>
@@ -24,34 +27,28 @@
 
 namespace {
 
-// journald reads a "<N>" syslog priority prefix on each stderr line (SyslogLevelPrefix=yes),
-// so under systemd the level travels as a priority instead of text.
-class SyslogPriorityFlag final : public spdlog::custom_flag_formatter {
- public:
-  void format(const spdlog::details::log_msg& msg, const std::tm&,
-              spdlog::memory_buf_t& dest) override {
-    static constexpr const char* kPriority[] = {"<7>", "<7>", "<6>", "<4>", "<3>", "<2>", "<6>"};
-    const auto level = static_cast<std::size_t>(msg.level);
-    const char* p = level < std::size(kPriority) ? kPriority[level] : "<6>";
-    dest.append(p, p + 3);
-  }
-  std::unique_ptr<custom_flag_formatter> clone() const override {
-    return std::make_unique<SyslogPriorityFlag>();
-  }
-};
+// systemd sets JOURNAL_STREAM to "<device>:<inode>" of the journal stream it connected stderr to
+// (systemd.exec(5)); compared with stderr itself, so that a redirected stderr is honoured.
+bool stderrIsTheJournal() {
+  const char* stream = std::getenv("JOURNAL_STREAM");
+  struct stat st {};
+  unsigned long long device = 0, inode = 0;
+  return stream != nullptr && std::sscanf(stream, "%llu:%llu", &device, &inode) == 2 &&
+         ::fstat(STDERR_FILENO, &st) == 0 && device == st.st_dev && inode == st.st_ino;
+}
 
 void setUpLogging() {
-  auto logger = std::make_shared<spdlog::logger>("volcompd",
-                                                 std::make_shared<spdlog::sinks::stderr_sink_mt>());
-  auto formatter = std::make_unique<spdlog::pattern_formatter>();
-  if (std::getenv("JOURNAL_STREAM") != nullptr) {
-    // journald stamps time and unit itself.
-    formatter->add_flag<SyslogPriorityFlag>('*').set_pattern("%*%v");
+  std::shared_ptr<spdlog::logger> logger;
+  if (stderrIsTheJournal()) {
+    // Straight into the journal, each message with its priority; journald stamps time and unit.
+    logger = std::make_shared<spdlog::logger>(
+        "volcompd", std::make_shared<spdlog::sinks::systemd_sink_mt>("volcompd"));
   } else {
-    formatter->set_pattern("%Y-%m-%d %H:%M:%S.%e volcompd %l: %v");
+    logger = std::make_shared<spdlog::logger>("volcompd",
+                                              std::make_shared<spdlog::sinks::stderr_sink_mt>());
+    logger->set_pattern("%Y-%m-%d %H:%M:%S.%e volcompd %l: %v");
   }
-  logger->set_formatter(std::move(formatter));
-  spdlog::set_default_logger(logger);
+  spdlog::set_default_logger(std::move(logger));
 }
 
 int run(const std::string& configPath, bool checkOnly, bool verbose) {
@@ -108,7 +105,8 @@ int main(int argc, char** argv) {
   // daemon with offsets applied: writes then fail with EPIPE, which logging ignores.
   std::signal(SIGPIPE, SIG_IGN);
   setUpLogging();
-  CLI::App app{"volcompd: live volumetric error compensation daemon"};
+  CLI::App app{"volcompd: live volumetric error compensation daemon", "volcompd"};
+  app.set_version_flag("--version", std::string("volcompd ") + VOLCOMP_VERSION);
   std::string configPath;
   bool checkOnly = false;
   bool verbose = false;

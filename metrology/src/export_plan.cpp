@@ -78,40 +78,55 @@ AxisGrid planGrid(const model::MachineModelSpec& spec, Axis axis, const GridStep
   return makeGrid(axisRange(spec, axis), steps[static_cast<std::size_t>(axis)]);
 }
 
-/// Calls visit(axis, motion index, name, grid, function) for each positioning component present.
-template <typename Visit>
-void forEachPositioning(const model::MachineModelSpec& spec, const GridSteps& steps, Visit visit) {
+namespace {
+
+/// A positioning component present in the model (EXX, EYY, EZZ) and the grid it is sampled on.
+struct Positioning {
+  Axis axis;
+  int index;  ///< motion index
+  std::string name;
+  AxisGrid grid;
+  bool bidirectional;
+};
+
+std::vector<Positioning> positioningComponents(const model::MachineModelSpec& spec,
+                                               const GridSteps& steps) {
+  std::vector<Positioning> found;
   for (Axis axis : kAxes) {
     const int index = positioningIndex(axis);
     const auto& function = spec.motion[static_cast<std::size_t>(index)];
     if (!isPresent(function)) continue;
-    visit(axis, index, model::motionName(index), planGrid(spec, axis, steps), function);
+    found.push_back({axis, index, model::motionName(index), planGrid(spec, axis, steps),
+                     isBidirectional(function)});
   }
+  return found;
 }
+
+/// The component alone along its own axis, for the given direction's curve.
+AxisTable sampleOwnAxis(const model::MachineModelSpec& spec, const Positioning& p,
+                        Direction direction) {
+  return sampleTable(spec, {p.index}, {}, p.axis, p.axis, p.grid, direction);
+}
+
+}  // namespace
 
 ExportPlan planLinuxCnc(const model::MachineModelSpec& spec, const GridSteps& steps) {
   ExportPlan plan;
   std::set<std::string> carried;
-  forEachPositioning(
-      spec, steps,
-      [&](Axis axis, int index, const std::string& name, const AxisGrid& grid,
-          const model::ErrorFunctionSpec& f) {
-        if (isBidirectional(f)) {
-          plan.tables.push_back(
-              sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Positive));
-          plan.tables.push_back(
-              sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Negative));
-          plan.carried.push_back(name + " -> joint of " + axisName(axis) +
-                                 ": forward column from values, reverse from values_negative, " +
-                                 gridText(grid));
-        } else {
-          plan.tables.push_back(
-              sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Unknown));
-          plan.carried.push_back(name + " -> joint of " + axisName(axis) +
-                                 ": the same curve forward and reverse, " + gridText(grid));
-        }
-        carried.insert(name);
-      });
+  for (const Positioning& p : positioningComponents(spec, steps)) {
+    const std::string joint = p.name + " -> joint of " + axisName(p.axis);
+    if (p.bidirectional) {
+      plan.tables.push_back(sampleOwnAxis(spec, p, Direction::Positive));
+      plan.tables.push_back(sampleOwnAxis(spec, p, Direction::Negative));
+      plan.carried.push_back(joint +
+                             ": forward column from values, reverse from values_negative, " +
+                             gridText(p.grid));
+    } else {
+      plan.tables.push_back(sampleOwnAxis(spec, p, Direction::Unknown));
+      plan.carried.push_back(joint + ": the same curve forward and reverse, " + gridText(p.grid));
+    }
+    carried.insert(p.name);
+  }
   listNotCarried(spec, carried,
                  "straightness; a joint's COMP_FILE corrects that joint along itself only",
                  "squareness; a joint's COMP_FILE cannot move another joint", plan);
@@ -121,32 +136,23 @@ ExportPlan planLinuxCnc(const model::MachineModelSpec& spec, const GridSteps& st
 ExportPlan planSiemens(const model::MachineModelSpec& spec, const GridSteps& steps) {
   ExportPlan plan;
   std::set<std::string> carried;
-  forEachPositioning(
-      spec, steps,
-      [&](Axis axis, int index, const std::string& name, const AxisGrid& grid,
-          const model::ErrorFunctionSpec& f) {
-        const AxisTable mean = sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Unknown);
-        plan.tables.push_back(mean);
-        if (isBidirectional(f)) {
-          const AxisTable up =
-              sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Positive);
-          const AxisTable down =
-              sampleTable(spec, {index}, {}, axis, axis, grid, Direction::Negative);
-          plan.tables.push_back(difference(up, mean, +1));
-          plan.tables.push_back(difference(down, mean, -1));
-          plan.carried.push_back(
-              name + " -> LEC of " + axisName(axis) +
-              " (mean of values and values_negative) plus two direction-dependent "
-              "CEC tables " +
-              axisName(axis) + " -> " + axisName(axis) +
-              " (each curve minus the "
-              "mean), " +
-              gridText(grid));
-        } else {
-          plan.carried.push_back(name + " -> LEC of " + axisName(axis) + ", " + gridText(grid));
-        }
-        carried.insert(name);
-      });
+  for (const Positioning& p : positioningComponents(spec, steps)) {
+    const AxisTable mean = sampleOwnAxis(spec, p, Direction::Unknown);
+    plan.tables.push_back(mean);
+    const std::string axis = axisName(p.axis);
+    if (p.bidirectional) {
+      plan.tables.push_back(difference(sampleOwnAxis(spec, p, Direction::Positive), mean, +1));
+      plan.tables.push_back(difference(sampleOwnAxis(spec, p, Direction::Negative), mean, -1));
+      plan.carried.push_back(p.name + " -> LEC of " + axis +
+                             " (mean of values and values_negative) plus two direction-dependent "
+                             "CEC tables " +
+                             axis + " -> " + axis + " (each curve minus the mean), " +
+                             gridText(p.grid));
+    } else {
+      plan.carried.push_back(p.name + " -> LEC of " + axis + ", " + gridText(p.grid));
+    }
+    carried.insert(p.name);
+  }
   for (Axis input : kAxes) {
     for (Axis output : kAxes) {
       if (input == output) continue;

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "temp_files.hpp"
 #include "volcomp/can/layout.hpp"
 
 namespace volcomp::can {
@@ -179,22 +180,7 @@ TEST(CanConfig, FdAllowsLongFramesRoundedToValidLengths) {
   EXPECT_EQ(layout.inputFrames[1].length, 12u);
 }
 
-class TempDir {
- public:
-  TempDir() {
-    char pattern[] = "/tmp/volcomp-can-XXXXXX";
-    path_ = ::mkdtemp(pattern);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  std::string write(const std::string& name, const std::string& text) const {
-    const std::string file = path_ + "/" + name;
-    std::ofstream(file) << text;
-    return file;
-  }
-
- private:
-  std::string path_;
-};
+using volcomp::testing::TempDir;
 
 constexpr const char* kMachineDbc = R"(BO_ 256 Positions: 8 PLC
  SG_ X_Pos : 7|32@0- (0.0001,0) [-2000|2000] "mm" VOLCOMP

@@ -20,6 +20,7 @@
 #include "volcomp/sim/can_sim_node.hpp"
 #include "volcomp/sim/machine.hpp"
 #include "volcomp/sim/sim_config.hpp"
+#include "wait_until.hpp"
 
 namespace volcomp::can {
 namespace {
@@ -160,7 +161,7 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
   }
   EXPECT_TRUE(loop.finished());
   // The simulator's thread may not have taken the last frames off its socket yet.
-  EXPECT_TRUE(test::waitFor([&] {
+  EXPECT_TRUE(testutil::waitUntil([&] {
     const auto writes = machine.writes();
     return !writes.empty() && writes.back().status == 0;
   })) << "last status seen by the simulator: "

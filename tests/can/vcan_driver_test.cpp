@@ -17,6 +17,7 @@
 #include "vcan_util.hpp"
 #include "volcomp/can/controller_node.hpp"
 #include "volcomp/can/errors.hpp"
+#include "wait_until.hpp"
 
 namespace volcomp::can {
 namespace {
@@ -111,7 +112,7 @@ TEST_F(VcanDriver, OnlyFramesWithTheSameSequenceFormASet) {
   EXPECT_EQ(port->stats().completeSets, 0u);
   EXPECT_GE(port->stats().discardedFrames, 1u);
   ASSERT_TRUE(peer.send(0x100, withSequence(kFrame100, 6)));
-  ASSERT_TRUE(test::waitFor([&] { return !port->read(sample); }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !port->read(sample); }));
   EXPECT_EQ(sample.sequence, 6);
   EXPECT_EQ(port->stats().completeSets, 1u);
 }
@@ -122,7 +123,7 @@ TEST_F(VcanDriver, StaleSetsAreRefused) {
   // Like a controller, keep sending until the driver has a set (a loaded machine may take longer
   // than the 50 ms stale timeout between one send and the next read).
   auto sendUntilRead = [&](std::uint8_t sequence) {
-    return test::waitFor([&] {
+    return testutil::waitUntil([&] {
       peer.send(0x100, withSequence(kFrame100, sequence));
       peer.send(0x101, withSequence(kFrame101, sequence));
       return !port->read(sample) && sample.sequence == sequence;
@@ -130,7 +131,7 @@ TEST_F(VcanDriver, StaleSetsAreRefused) {
   };
   ASSERT_TRUE(sendUntilRead(1));
   // No new frames: once the set is older than 50 ms, read reports stale input.
-  EXPECT_TRUE(test::waitFor([&] { return port->read(sample) == Errc::StaleInput; }));
+  EXPECT_TRUE(testutil::waitUntil([&] { return port->read(sample) == Errc::StaleInput; }));
   EXPECT_TRUE(sendUntilRead(2));
 }
 
@@ -140,7 +141,7 @@ TEST_F(VcanDriver, MalformedAndShortFramesAreIgnoredAndCounted) {
   ASSERT_TRUE(peer.send(0x101, {}));                 // empty
   ASSERT_TRUE(peer.send(0x101 | CAN_RTR_FLAG, {}));  // remote request: filtered by the kernel
   ASSERT_TRUE(peer.send(0x555, {1, 2, 3}));          // not an input: filtered by the kernel
-  ASSERT_TRUE(test::waitFor([&] {
+  ASSERT_TRUE(testutil::waitUntil([&] {
     loop::AxisSample ignored;
     port->read(ignored);
     return port->stats().malformedFrames == 2;
@@ -148,7 +149,7 @@ TEST_F(VcanDriver, MalformedAndShortFramesAreIgnoredAndCounted) {
   EXPECT_EQ(port->stats().completeSets, 0u);
   sendSet(7);
   loop::AxisSample sample;
-  ASSERT_TRUE(test::waitFor([&] { return !port->read(sample); }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !port->read(sample); }));
   EXPECT_EQ(sample.sequence, 7);
   EXPECT_NEAR(sample.positionMm[0], 123.4567, 1e-9);
   EXPECT_EQ(port->stats().malformedFrames, 2u);
@@ -160,14 +161,14 @@ TEST_F(VcanDriver, BusOffErrorFrameIsAFaultUntilRestart) {
   loop::AxisSample sample;
   ASSERT_FALSE(port->read(sample));
   ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_BUSOFF, std::vector<std::uint8_t>(8, 0)));
-  ASSERT_TRUE(test::waitFor([&] { return port->read(sample) == Errc::BusOff; }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return port->read(sample) == Errc::BusOff; }));
   EXPECT_FALSE(loop::isLinkError(Errc::BusOff));
   EXPECT_EQ(port->busState(), BusState::BusOff);
   EXPECT_EQ(port->write(loop::OffsetCommand{}), Errc::BusOff);
   EXPECT_EQ(port->stats().busOffEvents, 1u);
   ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_RESTARTED, std::vector<std::uint8_t>(8, 0)));
   sendSet(2);
-  ASSERT_TRUE(test::waitFor([&] { return !port->read(sample); }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !port->read(sample); }));
   EXPECT_EQ(port->busState(), BusState::ErrorActive);
   EXPECT_EQ(sample.sequence, 2);
 }
@@ -178,14 +179,14 @@ TEST_F(VcanDriver, ErrorPassiveIsAFaultButOffsetsCanStillBeWritten) {
   details[1] = CAN_ERR_CRTL_TX_PASSIVE;
   ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_CRTL, details));
   loop::AxisSample sample;
-  ASSERT_TRUE(test::waitFor([&] { return port->read(sample) == Errc::ErrorPassive; }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return port->read(sample) == Errc::ErrorPassive; }));
   EXPECT_EQ(port->stats().errorPassiveEvents, 1u);
   // The daemon ramps the offsets to zero in fault: writing must still work.
   EXPECT_FALSE(port->write(loop::OffsetCommand{}));
   details[1] = CAN_ERR_CRTL_ACTIVE;
   ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_CRTL, details));
   sendSet(3);
-  ASSERT_TRUE(test::waitFor([&] { return !port->read(sample); }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !port->read(sample); }));
   EXPECT_EQ(port->busState(), BusState::ErrorActive);
 }
 
@@ -196,7 +197,7 @@ TEST_F(VcanDriver, InterfaceDownIsALinkErrorAndRecoveryWorks) {
   ASSERT_FALSE(port->read(sample));
   ASSERT_TRUE(test::setInterfaceUp(test::interfaceName(), false));
   std::error_code ec;
-  ASSERT_TRUE(test::waitFor([&] {
+  ASSERT_TRUE(testutil::waitUntil([&] {
     ec = port->read(sample);
     return loop::isLinkError(ec);
   }));
@@ -216,7 +217,7 @@ TEST_F(VcanDriver, InterfaceDownIsALinkErrorAndRecoveryWorks) {
   ASSERT_TRUE(freshPeer.ok());
   ASSERT_TRUE(freshPeer.send(0x100, withSequence(kFrame100, 9)));
   ASSERT_TRUE(freshPeer.send(0x101, withSequence(kFrame101, 9)));
-  ASSERT_TRUE(test::waitFor([&] { return !port->read(sample); }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !port->read(sample); }));
   EXPECT_EQ(sample.sequence, 9);
   EXPECT_FALSE(port->write(loop::OffsetCommand{}));
 }
@@ -297,7 +298,7 @@ TEST_F(VcanDriver, SyncTriggerAsksTheNodeAndWaitsForItsAnswer) {
     command.status = static_cast<std::uint16_t>(cycle);
     command.heartbeat = static_cast<std::uint16_t>(cycle + 1);
     ASSERT_FALSE(port->write(command));
-    ASSERT_TRUE(test::waitFor(
+    ASSERT_TRUE(testutil::waitUntil(
         [&] { return controller.commands() == static_cast<std::uint64_t>(cycle + 1); }));
     const loop::OffsetCommand seen = controller.lastCommand();
     EXPECT_NEAR(seen.offsetMm[0], 0.001 * cycle, 1e-12);
@@ -331,7 +332,7 @@ TEST_F(VcanDriver, CanFdFramesBothWays) {
   ASSERT_FALSE(port->write(loop::OffsetCommand{}));
   std::size_t mtu = 0;
   std::optional<canfd_frame> out;
-  ASSERT_TRUE(test::waitFor([&] {
+  ASSERT_TRUE(testutil::waitUntil([&] {
     out = peer.receive(100ms, &mtu);
     return out && out->can_id == 0x300;
   }));

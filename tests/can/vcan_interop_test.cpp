@@ -11,7 +11,9 @@
 
 #include <gtest/gtest.h>
 
+#include "temp_files.hpp"
 #include "vcan_util.hpp"
+#include "wait_until.hpp"
 
 namespace volcomp::can {
 namespace {
@@ -43,9 +45,7 @@ BO_ 2147484417 Life: 1 VOLCOMP
 class CanUtilsInterop : public ::testing::Test {
  protected:
   void SetUp() override {
-    char pattern[] = "/tmp/volcomp-interop-XXXXXX";
-    dir_ = ::mkdtemp(pattern);
-    std::ofstream(dir_ + "/machine.dbc") << kDbc;
+    dir_.write("machine.dbc", kDbc);
     const nlohmann::json config{
         {"interface", test::interfaceName()},
         {"trigger", "broadcast"},
@@ -62,12 +62,10 @@ class CanUtilsInterop : public ::testing::Test {
           {"status", {{"dbc", "Status"}}},
           {"heartbeat", {{"dbc", "Heartbeat"}}}}}};
     port_ = std::make_unique<CanControllerPort>(
-        config::loadCanLayout(config, dir_ + "/daemon.json", "transport"));
+        config::loadCanLayout(config, (dir_.path() / "daemon.json").string(), "transport"));
     ASSERT_FALSE(port_->connect());
   }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string dir_;
+  volcomp::testing::TempDir dir_;
   std::unique_ptr<CanControllerPort> port_;
 };
 
@@ -94,7 +92,7 @@ TEST_F(CanUtilsInterop, CansendFramesAreUnderstood) {
   ASSERT_EQ(test::run("cansend " + iface + " 101#FFD9DA60C0000006"), 0);
   ASSERT_EQ(test::run("cansend " + iface + " 00000100#12D687FFFFFF0007"), 0);
   ASSERT_EQ(test::run("cansend " + iface + " 00000101#FFD9DA6000000007"), 0);
-  ASSERT_TRUE(test::waitFor([&] { return !port_->read(sample) && sample.sequence == 7; }));
+  ASSERT_TRUE(testutil::waitUntil([&] { return !port_->read(sample) && sample.sequence == 7; }));
   EXPECT_FALSE(sample.enable);
   EXPECT_FALSE(sample.homed);
   EXPECT_EQ(port_->stats().completeSets, 2u);
@@ -111,7 +109,7 @@ TEST_F(CanUtilsInterop, WrittenFramesAreDecodedByCandump) {
   command.heartbeat = 300;
   // candump may still be starting: write every cycle until it has printed both frames.
   std::map<std::string, std::string> seen;
-  ASSERT_TRUE(test::waitFor(
+  ASSERT_TRUE(testutil::waitUntil(
       [&] {
         EXPECT_FALSE(port_->write(command));
         while (auto line = candump.line(20ms)) {

@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <thread>
 
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
@@ -36,16 +35,6 @@ bool setInterfaceUp(const std::string& name, bool up) {
   }
   ::close(fd);
   return ok;
-}
-
-bool waitFor(const std::function<bool()>& condition, std::chrono::milliseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (!condition()) {
-    if (std::chrono::steady_clock::now() >= deadline) return condition();
-    // Re-check often without spinning a vCPU that the guest's other processes need.
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  return true;
 }
 
 PeerSocket::PeerSocket() {

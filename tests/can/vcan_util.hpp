@@ -1,11 +1,10 @@
 #pragma once
 /// Helpers for the tests that run on a real (virtual) CAN interface: the interface name, a peer
 /// socket written with plain SocketCAN calls (independent of the driver under test), interface
-/// up/down, waiting on a condition, and running can-utils.
+/// up/down, and running can-utils (waiting on a condition: tests/testutil/wait_until.hpp).
 
 #include <chrono>
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,10 +18,6 @@ std::string interfaceName();
 
 /// Sets the interface administratively up or down (SIOCSIFFLAGS, needs CAP_NET_ADMIN).
 bool setInterfaceUp(const std::string& name, bool up);
-
-/// Polls `condition` until it holds or `timeout` passes; returns its last value.
-bool waitFor(const std::function<bool()>& condition,
-             std::chrono::milliseconds timeout = std::chrono::seconds(5));
 
 /// A raw CAN socket on the test interface that receives everything (FD frames and all error
 /// classes included) and sends whatever it is given.

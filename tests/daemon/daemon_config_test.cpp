@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "temp_dir.hpp"
+#include "temp_files.hpp"
 #include "volcomp/daemon/configuration.hpp"
 
 namespace volcomp::config {
@@ -269,7 +269,7 @@ TEST(DaemonConfig, RejectsNonFiniteNumbers) {
 }
 
 TEST(DaemonConfig, FileErrorsNameTheFile) {
-  volcomp::daemon::testing::TempDir dir;
+  volcomp::testing::TempDir dir;
   const std::string missing = (dir.path() / "absent.json").string();
   try {
     loadDaemonConfig(missing);
@@ -292,7 +292,7 @@ TEST(DaemonConfig, FileErrorsNameTheFile) {
 // A calibrated model records the tools it was measured with; the daemon compensates for the
 // model's own tool and warns (start and reload) when that one was never measured.
 TEST(DaemonConfig, AModelToolFarFromTheCalibratedToolsIsAWarning) {
-  volcomp::daemon::testing::TempDir dir;
+  volcomp::testing::TempDir dir;
   json model = json::parse(R"({"format": "volcomp-model/1", "topology": "XYFZ",
     "travel": {"X": [0, 850], "Y": [0, 500], "Z": [-500, 0]}, "tool": [0, 0, 120],
     "error_units": {"length": "um", "angle": "urad"}, "components": {"EBX": 12}})");

@@ -16,8 +16,9 @@
 #include <vector>
 
 #include "fakes.hpp"
-#include "notify_socket.hpp"
+#include "notify_listener.hpp"
 #include "simulated_clock.hpp"
+#include "temp_files.hpp"
 #include "volcomp/config/config_error.hpp"
 
 namespace volcomp::daemon::testing {
@@ -250,9 +251,18 @@ TEST_F(DaemonTest, HungReloadIsAbandonedAndTheNextOneWorks) {
   block->release();
 }
 
-// The real sd_notify path: libsystemd writes to the NOTIFY_SOCKET this test binds.
-TEST(SystemdNotifier, SendsMessagesToTheNotifySocket) {
-  NotifySocket socket;
+// The real sd_notify path: libsystemd writes to the NOTIFY_SOCKET this fixture binds and
+// announces in the environment.
+class SystemdNotifierTest : public ::testing::Test {
+ protected:
+  SystemdNotifierTest() { ::setenv("NOTIFY_SOCKET", socket.path().c_str(), 1); }
+  ~SystemdNotifierTest() override { ::unsetenv("NOTIFY_SOCKET"); }
+
+  volcomp::testing::TempDir dir;
+  testutil::NotifyListener socket{(dir.path() / "notify.sock").string()};
+};
+
+TEST_F(SystemdNotifierTest, SendsMessagesToTheNotifySocket) {
   SystemdNotifier notifier;
   notifier.notify("READY=1");
   EXPECT_EQ(socket.receive(5s).value_or("<nothing>"), "READY=1");
@@ -273,15 +283,18 @@ TEST(SystemdNotifier, WatchdogIntervalComesFromTheEnvironment) {
   ::unsetenv("WATCHDOG_PID");
 }
 
-TEST(SystemdNotifier, WithoutNotifySocketNothingHappens) {
-  ::unsetenv("NOTIFY_SOCKET");
+// Without NOTIFY_SOCKET (not started by systemd) a message goes nowhere: the listener, announced
+// again afterwards, gets the next message first (datagrams on a unix socket keep their order).
+TEST_F(SystemdNotifierTest, WithoutNotifySocketNothingIsSent) {
   SystemdNotifier notifier;
-  notifier.notify("READY=1");  // no socket: silently ignored
-  SUCCEED();
+  ::unsetenv("NOTIFY_SOCKET");
+  notifier.notify("READY=1");
+  ::setenv("NOTIFY_SOCKET", socket.path().c_str(), 1);
+  notifier.notify("STATUS=announced");
+  EXPECT_EQ(socket.receive(5s).value_or("<nothing>"), "STATUS=announced");
 }
 
-TEST(SystemdNotifier, DaemonLifecycleOverARealNotifySocket) {
-  NotifySocket socket;
+TEST_F(SystemdNotifierTest, DaemonLifecycleOverARealNotifySocket) {
   ::setenv("WATCHDOG_USEC", "40000", 1);
   ::setenv("WATCHDOG_PID", std::to_string(::getpid()).c_str(), 1);
   asio::io_context io;

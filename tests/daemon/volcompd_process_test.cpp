@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "subprocess.hpp"
-#include "temp_dir.hpp"
+#include "temp_files.hpp"
 
 namespace volcomp::daemon::testing {
 namespace {
@@ -67,7 +67,7 @@ class VolcompdProcess : public ::testing::Test {
     return testutil::Subprocess(args, "", {"NOTIFY_SOCKET", "JOURNAL_STREAM"});
   }
 
-  TempDir dir_;
+  volcomp::testing::TempDir dir_;
   nlohmann::json config_;
   std::string configPath_;
 };

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "subprocess.hpp"
+#include "temp_files.hpp"
 #include "wait_until.hpp"
 
 namespace volcomp::test {
@@ -32,14 +33,6 @@ const std::string kExamples = VOLCOMP_EXAMPLES_DIR;
 
 class ModbusE2e : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() /
-           ("volcomp-e2e-" + std::to_string(::getpid()) + "-" + info->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-
   static json example(const std::string& name) {
     return json::parse(std::ifstream(kExamples + "/" + name));
   }
@@ -138,7 +131,9 @@ class ModbusE2e : public ::testing::Test {
     EXPECT_LT(comp, 0.4 * un) << report.dump();
   }
 
-  std::filesystem::path dir_;
+  // Declared before the processes that write into it, so that it goes after them.
+  volcomp::testing::TempDir tmp_;
+  const std::filesystem::path dir_ = tmp_.path();
   std::unique_ptr<testutil::Subprocess> sim_;
   std::unique_ptr<testutil::Subprocess> daemon_;
 };

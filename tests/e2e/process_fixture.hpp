@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "subprocess.hpp"
+#include "temp_files.hpp"
 
 namespace volcomp::e2e {
 
@@ -123,20 +124,9 @@ struct Listening {
 
 class ProcessTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    // A short path: the notify socket's path must fit in sockaddr_un (108 bytes).
-    std::string tmpl = (std::filesystem::temp_directory_path() / "vce2e-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
-    dir_ = tmpl;
-  }
-
   void TearDown() override {
     daemon_.reset();
     sim_.reset();
-    if (!HasFailure())
-      std::filesystem::remove_all(dir_);
-    else
-      std::cerr << "kept " << dir_ << " for inspection\n";
   }
 
   static json example(const std::string& name) {
@@ -291,7 +281,10 @@ class ProcessTest : public ::testing::Test {
     return readRecord(dir_ / (tag + "-writes.csv"));
   }
 
-  std::filesystem::path dir_;
+  // Declared before the processes that write into it, so that it goes after them. Kept for
+  // inspection when the test failed.
+  volcomp::testing::TempDir tmp_;
+  const std::filesystem::path dir_ = tmp_.path();
   std::unique_ptr<Subprocess> sim_;
   std::unique_ptr<Subprocess> daemon_;
 };

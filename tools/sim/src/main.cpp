@@ -113,8 +113,9 @@ bool pathInsideTravel(const volcomp::sim::Path& path, const volcomp::sim::Travel
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{
-      "volcomp-sim: a simulated machine and controller for volcompd (Modbus TCP/RTU, CAN)"};
+  CLI::App app{"volcomp-sim: a simulated machine and controller for volcompd (Modbus TCP/RTU, CAN)",
+               "volcomp-sim"};
+  app.set_version_flag("--version", std::string("volcomp-sim ") + VOLCOMP_VERSION);
   app.footer(
       "Fault commands (stdin, one per line, or --event T:COMMAND[:ARG...]): stall [S], "
       "drop-link [S], exception CODE [S], late-reply S [N], no-reply [N], pause-client PID S, "

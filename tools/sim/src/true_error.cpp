@@ -1,5 +1,5 @@
 #include <memory>
-#include <variant>
+#include <utility>
 
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/model/machine_model.hpp"
@@ -8,20 +8,10 @@
 namespace volcomp::sim {
 
 ErrorFunction loadTrueError(const std::string& modelFile, Travel* travel) {
-  config::ModelDocument doc = config::loadModelFile(modelFile);
-  auto* spec = std::get_if<model::MachineModelSpec>(&doc.spec);
-  if (spec == nullptr) {
-    throw config::ConfigError(modelFile, "",
-                              "the simulator needs a 3-axis model (topology and components), not "
-                              "a D-H chain");
-  }
-  if (travel != nullptr) *travel = spec->travelMm;
-  std::shared_ptr<const model::MachineModel> machineModel;
-  try {
-    machineModel = std::make_shared<const model::MachineModel>(*spec);
-  } catch (const model::ModelError& e) {
-    throw config::ConfigError(modelFile, "", e.what());
-  }
+  model::MachineModelSpec spec = config::loadMachineModelFile(modelFile, "the simulated machine");
+  if (travel != nullptr) *travel = spec.travelMm;
+  // loadMachineModelFile has built the model once already: this cannot throw ModelError.
+  auto machineModel = std::make_shared<const model::MachineModel>(std::move(spec));
   // One workspace per machine: the Machine calls this under its own mutex.
   auto ws = std::make_shared<model::Workspace>();
   return [machineModel, ws](const Vec3& q, const MotionDirections& moved) {

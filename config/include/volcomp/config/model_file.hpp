@@ -47,7 +47,12 @@ struct ModelDocument {
 /// Reads and validates a model file. Throws ConfigError (file, key path, what was expected).
 ModelDocument loadModelFile(const std::string& path, const ParseOptions& options = {});
 
-/// Same for an already parsed document; `file` is used in messages only.
+/// Reads a model file that must be a 3-axis machine model (the daemon and the simulated machine
+/// evaluate those only): a D-H chain file is a ConfigError at "chain" saying that `user` (e.g.
+/// "live compensation") needs a 3-axis model. Otherwise as loadModelFile.
+model::MachineModelSpec loadMachineModelFile(const std::string& path, const std::string& user);
+
+/// Same as loadModelFile for an already parsed document; `file` is used in messages only.
 ModelDocument parseModel(const nlohmann::json& document, const std::string& file,
                          const ParseOptions& options = {});
 

@@ -63,13 +63,17 @@ OffsetField::OffsetField(std::shared_ptr<const model::MachineModel> model, model
 
 void OffsetField::solve(std::span<const Vec3> q, std::span<const model::Directions> dirs,
                         std::span<OffsetSample> out) {
+  // The batch path solves four points per SIMD register; the solutions go through a buffer that
+  // keeps the largest size seen, so a steady stream of chunks allocates nothing.
+  if (solutions_.size() < q.size()) solutions_.resize(q.size());
+  const std::span<model::OffsetSolution> solved(solutions_.data(), q.size());
   model::OffsetOptions options;
   options.mode = mode_;
+  model::solveOffsetBatch(*model_, ws_, q, solved, dirs, options);
   for (std::size_t i = 0; i < q.size(); ++i) {
-    const model::OffsetSolution s = model::solveOffset(*model_, ws_, q[i], dirs[i], options);
-    out[i].offsetMm = s.offsetMm;
-    out[i].clampedAxes = s.clampedAxes;
-    out[i].converged = s.converged;
+    out[i].offsetMm = solved[i].offsetMm;
+    out[i].clampedAxes = solved[i].clampedAxes;
+    out[i].converged = solved[i].converged;
   }
 }
 

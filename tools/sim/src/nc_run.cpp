@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iostream>
+#include <limits>
+#include <unordered_map>
 
 #include <CLI/CLI.hpp>
 
@@ -52,32 +55,77 @@ V3 closestOn(const Piece& p, const V3& x) {
   return p.a + t * ab;
 }
 
-// Nearest reference piece, looked for near the previous one first (programs run forward); the
-// whole path is searched when nothing is found within 0.1 mm there.
-class Follower {
+// The nearest reference piece to a point, exactly: pieces are filed in a hash grid of cubic cells
+// (a long piece in every cell along it), and the search grows ring by ring of cells around the
+// point until no unvisited cell can hold anything nearer. A heuristic "look near the last match"
+// picks the wrong pass where the path runs over itself (a helix under a full circle) and then
+// reports the distance to that pass.
+class PathIndex {
  public:
-  explicit Follower(const std::vector<Piece>& pieces) : pieces_(pieces) {}
-  std::size_t nearest(const V3& x) {
+  explicit PathIndex(const std::vector<Piece>& pieces) : pieces_(pieces) {
+    for (std::size_t i = 0; i < pieces_.size(); ++i) {
+      const Piece& p = pieces_[i];
+      const int n = std::max(1, static_cast<int>(std::ceil((p.b - p.a).norm() / kCellMm)));
+      for (int j = 0; j < n; ++j) {
+        const V3 a = p.a + (p.b - p.a) * (static_cast<double>(j) / n);
+        const V3 b = p.a + (p.b - p.a) * (static_cast<double>(j + 1) / n);
+        const Cell lo = cellOf(a.cwiseMin(b)), hi = cellOf(a.cwiseMax(b));
+        for (long x = lo[0]; x <= hi[0]; ++x)
+          for (long y = lo[1]; y <= hi[1]; ++y)
+            for (long z = lo[2]; z <= hi[2]; ++z) {
+              std::vector<std::uint32_t>& bucket = cells_[key({x, y, z})];
+              if (bucket.empty() || bucket.back() != i) {
+                bucket.push_back(static_cast<std::uint32_t>(i));
+              }
+            }
+      }
+    }
+  }
+
+  std::size_t nearest(const V3& x) const {
     std::size_t best = pieces_.size();
-    double bestD = 1e300;
-    const auto scan = [&](std::size_t from, std::size_t to) {
-      for (std::size_t i = from; i < to; ++i) {
-        const double d = (closestOn(pieces_[i], x) - x).squaredNorm();
-        if (d < bestD) {
-          bestD = d;
-          best = i;
-        }
+    double bestD = std::numeric_limits<double>::infinity();
+    const auto consider = [&](std::size_t i) {
+      const double d = (closestOn(pieces_[i], x) - x).norm();
+      if (d < bestD) {
+        bestD = d;
+        best = i;
       }
     };
-    scan(cursor_ > 256 ? cursor_ - 256 : 0, std::min(pieces_.size(), cursor_ + 8192));
-    if (bestD > 0.01) scan(0, pieces_.size());
-    cursor_ = best;
+    const Cell c = cellOf(x);
+    for (long r = 0; r <= kMaxRings; ++r) {
+      for (long dx = -r; dx <= r; ++dx)
+        for (long dy = -r; dy <= r; ++dy)
+          for (long dz = -r; dz <= r; ++dz) {
+            if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != r) continue;
+            const auto it = cells_.find(key({c[0] + dx, c[1] + dy, c[2] + dz}));
+            if (it == cells_.end()) continue;
+            for (const std::uint32_t i : it->second) consider(i);
+          }
+      // Every cell not yet visited is at least r whole cells away from the point.
+      if (bestD <= static_cast<double>(r) * kCellMm) return best;
+    }
+    for (std::size_t i = 0; i < pieces_.size(); ++i) consider(i);
     return best;
   }
 
  private:
+  using Cell = std::array<long, 3>;
+  static constexpr double kCellMm = 0.5;
+  static constexpr long kMaxRings = 8;
+
+  static Cell cellOf(const V3& x) {
+    return {static_cast<long>(std::floor(x[0] / kCellMm)),
+            static_cast<long>(std::floor(x[1] / kCellMm)),
+            static_cast<long>(std::floor(x[2] / kCellMm))};
+  }
+  static std::uint64_t key(const Cell& c) {
+    const auto part = [](long v) { return static_cast<std::uint64_t>(v) & 0x1fffffu; };
+    return part(c[0]) | part(c[1]) << 21 | part(c[2]) << 42;
+  }
+
   const std::vector<Piece>& pieces_;
-  std::size_t cursor_ = 0;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
 };
 
 }  // namespace
@@ -101,7 +149,7 @@ NcRunReport runNcProgram(const NcRunOptions& options) {
                               "the reference program has no feed moves");
   }
   const ErrorFunction trueError = loadTrueError(options.trueModel);
-  Follower follower(pieces);
+  const PathIndex index(pieces);
   NcRunReport r;
   double sumSq = 0.0;
   std::array<double, 3> sumSqAxis{};
@@ -114,12 +162,12 @@ NcRunReport runNcProgram(const NcRunOptions& options) {
     const double length = m.move.lengthMm();
     r.pathMm += length;
     const int n = std::max(1, static_cast<int>(std::ceil(length / options.stepMm)));
-    const MotionDirections dirs = pieces[follower.nearest(m.move.at(0.5))].dirs;
+    const MotionDirections dirs = pieces[index.nearest(m.move.at(0.5))].dirs;
     for (int i = 0; i <= n; ++i) {
       const V3 q = m.move.at(static_cast<double>(i) / n);
       const Vec3 err = trueError({q[0], q[1], q[2]}, dirs);
       const V3 tip = q + V3(err[0], err[1], err[2]);
-      const V3 error = tip - closestOn(pieces[follower.nearest(tip)], tip);
+      const V3 error = tip - closestOn(pieces[index.nearest(tip)], tip);
       const double norm = error.norm() * 1000.0;
       sumSq += norm * norm;
       r.maxUm = std::max(r.maxUm, norm);

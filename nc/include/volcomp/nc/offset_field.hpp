@@ -33,7 +33,8 @@ class OffsetField {
   OffsetField(std::shared_ptr<const model::MachineModel> model, model::EvalMode mode);
 
   /// Offsets at n = q.size() points, point i with directions dirs[i] (dirs.size() == q.size()).
-  /// The one place where the model's offset solve is called.
+  /// The one place where the model's offset solve is called: model::solveOffsetBatch, four
+  /// points at a time.
   void solve(std::span<const Vec3> q, std::span<const model::Directions> dirs,
              std::span<OffsetSample> out);
 
@@ -52,6 +53,7 @@ class OffsetField {
   std::shared_ptr<const model::MachineModel> model_;
   model::EvalMode mode_;
   model::Workspace ws_;
+  std::vector<model::OffsetSolution> solutions_;
   std::array<std::vector<double>, 3> kinks_;
   std::uint8_t bidirectional_ = 0;
   double smallestSpacing_;

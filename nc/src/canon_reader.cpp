@@ -279,7 +279,10 @@ void CanonReader::read(std::string_view line, std::string_view eol, long number,
     } else if (name == "FLOOD_ON") {
       emit("M8");
     } else {
-      emit(std::string("M9") + (mist_ ? " M7" : "") + (flood_ ? " M8" : ""));
+      // M9 turns both off; the one still on is turned on again on a line of its own (LinuxCNC
+      // refuses M9 with M7 or M8 on one line: one modal group).
+      const std::string next = std::string(eol) + (mist_ ? "M7" : "M8");
+      emit("M9" + (mist_ || flood_ ? next : std::string()));
     }
   } else if (name == "DWELL") {
     text = "G4 P";

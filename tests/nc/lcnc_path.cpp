@@ -34,7 +34,8 @@ struct Segment {
   Vec3 a, b;
   model::Directions dirs{};
   bool rapid = false;
-  long n = -1;  // N word of the original move
+  long n = -1;        // N word of the original move
+  long move = -1;     // index of the original feed move it belongs to
 };
 
 double pointSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
@@ -118,21 +119,29 @@ model::Directions step(model::Directions d, const Vec3& a, const Vec3& b) {
 
 // Directions of travel on the original path for a compensated piece: on the original move with
 // the piece's N word when there is one (a piece near a vertex may be nearer to the next move),
-// else on the nearest original segment.
+// else on the original move the piece belongs to in the order of the program (`move`, see
+// checkCompensation), else on the nearest original segment.
 model::Directions directionsFor(const std::vector<Segment>& feed, const Nearest& nearest, long n,
-                                const Vec3& p) {
-  if (n >= 0) {
+                                long move, const Vec3& p) {
+  const auto nearestWhere = [&](auto&& belongs) -> const Segment* {
     double best = 1e300;
     const Segment* found = nullptr;
     for (const Segment& s : feed) {
-      if (s.n != n) continue;
+      if (!belongs(s)) continue;
       const double d = pointSegment(p, s.a, s.b);
       if (d < best) {
         best = d;
         found = &s;
       }
     }
-    if (found != nullptr) return found->dirs;
+    return found;
+  };
+  if (n >= 0) {
+    if (const Segment* s = nearestWhere([n](const Segment& x) { return x.n == n; })) return s->dirs;
+  }
+  if (move >= 0) {
+    if (const Segment* s = nearestWhere([move](const Segment& x) { return x.move == move; }))
+      return s->dirs;
   }
   double ignored = 0.0;
   return feed[nearest.find(p, &ignored)].dirs;
@@ -281,20 +290,33 @@ PathCheck checkCompensation(const model::MachineModel& model,
   // The original path as fine segments with the direction of travel of each axis on them.
   std::vector<Segment> feed;
   std::vector<std::pair<Vec3, model::Directions>> rapidEnds;
+  std::vector<const CanonMotion*> feedMoves;  // the original's feed moves in program order
+  std::vector<double> feedLengths;            // and their lengths (mm)
   model::Directions dirs{};
   for (const CanonMotion& m : original) {
     const std::vector<Vec3> pts = samplePoints(m, 0.5);
+    const long move = static_cast<long>(feedMoves.size());
     for (std::size_t i = 1; i < pts.size(); ++i) {
       dirs = step(dirs, pts[i - 1], pts[i]);
       if (m.kind != CanonMotion::Rapid)
-        feed.push_back(Segment{pts[i - 1], pts[i], dirs, false, m.n});
+        feed.push_back(Segment{pts[i - 1], pts[i], dirs, false, m.n, move});
     }
     if (m.kind == CanonMotion::Rapid) rapidEnds.emplace_back(m.end, dirs);
+    if (m.kind != CanonMotion::Rapid && pts.size() > 1) {
+      double length = 0.0;
+      for (std::size_t i = 1; i < pts.size(); ++i) length += (pts[i] - pts[i - 1]).norm();
+      if (length > 0.0) {
+        feedMoves.push_back(&m);
+        feedLengths.push_back(length);
+      }
+    }
   }
   const Nearest nearestOriginal(feed);
   // The tool tip along the compensated program.
   std::vector<Segment> tipPath;
   std::size_t rapid = 0;
+  std::size_t current = 0;  // the original feed move the next compensated piece belongs to
+  double consumedMm = 0.0;  // length of the compensated pieces given to it so far
   bool connected = false;
   Vec3 previous = Vec3::Zero();  // the last tool-tip sample (the tip path goes on from it)
   for (const CanonMotion& m : compensated) {
@@ -319,7 +341,24 @@ PathCheck checkCompensation(const model::MachineModel& model,
     }
     if (feed.empty()) continue;
     const std::vector<Vec3> pts = samplePoints(m, stepMm);
-    const model::Directions d = directionsFor(feed, nearestOriginal, m.n, pts[pts.size() / 2]);
+    // The compensated pieces follow the original moves in order: a piece belongs to the current
+    // original move, and the piece whose tool tip ends at that move's end closes it. Where the
+    // moves are as short as the offsets (tens of micrometres) the nearest segment may be a
+    // neighbour's, with the other direction of travel.
+    const long move = current < feedMoves.size() ? static_cast<long>(current) : -1;
+    const model::Directions d = directionsFor(feed, nearestOriginal, m.n, move, pts[pts.size() / 2]);
+    if (move >= 0) {
+      // A piece closes the move when its tip ends at the move's end after about the move's
+      // length (a multi-turn arc passes its end point on every turn).
+      for (std::size_t i = 1; i < pts.size(); ++i) consumedMm += (pts[i] - pts[i - 1]).norm();
+      const CanonMotion& o = *feedMoves[current];
+      const double closeMm = std::min(0.01, 0.3 * feedLengths[current]);
+      if ((tip(m.end, d) - o.end).norm() <= closeMm &&
+          consumedMm >= 0.9 * feedLengths[current] - 0.02) {
+        ++current;
+        consumedMm = 0.0;
+      }
+    }
     for (std::size_t i = 0; i < pts.size(); ++i) {
       const Vec3 t = tip(pts[i], d);
       double distance = 0.0;

@@ -317,6 +317,7 @@ PathCheck checkCompensation(const model::MachineModel& model,
   std::size_t rapid = 0;
   std::size_t current = 0;  // the original feed move the next compensated piece belongs to
   double consumedMm = 0.0;  // length of the compensated pieces given to it so far
+  model::Directions lastDirections{};
   bool connected = false;
   Vec3 previous = Vec3::Zero();  // the last tool-tip sample (the tip path goes on from it)
   for (const CanonMotion& m : compensated) {
@@ -324,6 +325,7 @@ PathCheck checkCompensation(const model::MachineModel& model,
       connected = false;
       if (rapid < rapidEnds.size()) {
         const auto& [end, d] = rapidEnds[rapid];
+        lastDirections = d;
         const double e = (tip(m.end, d) - end).norm();
         if (e > result.rapidEndsMm) {
           if (e > result.worst())
@@ -346,7 +348,13 @@ PathCheck checkCompensation(const model::MachineModel& model,
     // moves are as short as the offsets (tens of micrometres) the nearest segment may be a
     // neighbour's, with the other direction of travel.
     const long move = current < feedMoves.size() ? static_cast<long>(current) : -1;
-    const model::Directions d = directionsFor(feed, nearestOriginal, m.n, move, pts[pts.size() / 2]);
+    // A move of no length (a programmed move to where the tool is) is a point of the previous
+    // move and keeps its directions.
+    const bool still = (m.end - m.start).norm() == 0.0 && m.kind != CanonMotion::Arc;
+    const model::Directions d =
+        still ? lastDirections
+                           : directionsFor(feed, nearestOriginal, m.n, move, pts[pts.size() / 2]);
+    lastDirections = d;
     if (move >= 0) {
       // A piece closes the move when its tip ends at the move's end after about the move's
       // length (a multi-turn arc passes its end point on every turn).

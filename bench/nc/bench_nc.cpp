@@ -161,10 +161,11 @@ int main(int argc, char** argv) {
         1e9 * last.offsetsS / static_cast<double>(last.offsetSolves), last.splitS / n,
         last.writeS / n);
     const double staged = last.readS + last.offsetsS + last.splitS + last.writeS;
-    std::printf("stages (share): read+interpret %.0f %%, offsets %.0f %%, plan+split+check %.0f %%, "
-                "format+write %.0f %%\n",
-                100 * last.readS / staged, 100 * last.offsetsS / staged, 100 * last.splitS / staged,
-                100 * last.writeS / staged);
+    std::printf(
+        "stages (share): read+interpret %.0f %%, offsets %.0f %%, plan+split+check %.0f %%, "
+        "format+write %.0f %%\n",
+        100 * last.readS / staged, 100 * last.offsetsS / staged, 100 * last.splitS / staged,
+        100 * last.writeS / staged);
     std::printf("deviation: max %.3f um checked, %.3f um with the allowance; peak RSS %ld kB\n",
                 last.maxDeviationMm * 1e3, last.maxBoundMm * 1e3, peakRssKb());
     if (!keep) {

@@ -104,10 +104,12 @@ class Corpus : public ::testing::Test {
   Outcome process(const std::filesystem::path& file) {
     const std::string name = std::filesystem::relative(file, kCorpus).string();
     const std::string out = (dir_.path() / "comp.ngc").string();
-    const std::string common = " --work-offsets " + volcomp::testing::quoted(var_) + " --tool-table " + volcomp::testing::quoted(tbl_) +
+    const std::string common = " --work-offsets " + volcomp::testing::quoted(var_) +
+                               " --tool-table " + volcomp::testing::quoted(tbl_) +
                                " --machine-units inch --start 0,0,0 --quiet";
-    const CliRun ngc = runCli(dir_, "nc " + volcomp::testing::quoted(model_) + " " + volcomp::testing::quoted(file.string()) +
-                                        " --out " + volcomp::testing::quoted(out) + common);
+    const CliRun ngc = runCli(dir_, "nc " + volcomp::testing::quoted(model_) + " " +
+                                        volcomp::testing::quoted(file.string()) + " --out " +
+                                        volcomp::testing::quoted(out) + common);
     if (ngc.status == 0) {
       const Command full = linuxCncFullPrecision(dir_, file.string(), var_);
       if (full.status == 0) {
@@ -129,7 +131,8 @@ class Corpus : public ::testing::Test {
               firstError + " | rs274: " + canon.err.substr(0, canon.err.find('\n', 10))};
     }
     const std::string canonFile = dir_.write("program.canon", canon.out);
-    const CliRun flat = runCli(dir_, "nc " + volcomp::testing::quoted(model_) + " " + volcomp::testing::quoted(canonFile) + " --out " +
+    const CliRun flat = runCli(dir_, "nc " + volcomp::testing::quoted(model_) + " " +
+                                         volcomp::testing::quoted(canonFile) + " --out " +
                                          volcomp::testing::quoted(out) + " --start 0,0,0 --quiet");
     if (flat.status != 0) {
       EXPECT_EQ(flat.status, 2) << name << ": " << flat.err;

@@ -34,8 +34,8 @@ struct Segment {
   Vec3 a, b;
   model::Directions dirs{};
   bool rapid = false;
-  long n = -1;        // N word of the original move
-  long move = -1;     // index of the original feed move it belongs to
+  long n = -1;     // N word of the original move
+  long move = -1;  // index of the original feed move it belongs to
 };
 
 double pointSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
@@ -353,7 +353,7 @@ PathCheck checkCompensation(const model::MachineModel& model,
     const bool still = (m.end - m.start).norm() == 0.0 && m.kind != CanonMotion::Arc;
     const model::Directions d =
         still ? lastDirections
-                           : directionsFor(feed, nearestOriginal, m.n, move, pts[pts.size() / 2]);
+              : directionsFor(feed, nearestOriginal, m.n, move, pts[pts.size() / 2]);
     lastDirections = d;
     if (move >= 0) {
       // A piece closes the move when its tip ends at the move's end after about the move's

@@ -1,7 +1,8 @@
 // The seed-004 experiment on the simulated machine: the part program compensated offline with the
 // calibrated example model, run by volcomp-sim on the TRUE machine (which differs from the
 // calibration as a real one does), against the original program run on the same machine.
-// The tool-tip error along the path (contour error) before and after (the paper reached 67 %). The figures are quoted in the README.
+// The tool-tip error along the path (contour error) before and after (the paper reached 67 %). The
+// figures are quoted in the README.
 #include <gtest/gtest.h>
 
 #include <iostream>

@@ -323,7 +323,8 @@ PathCheck checkCompensation(const model::MachineModel& model,
   for (const CanonMotion& m : compensated) {
     if (m.kind == CanonMotion::Rapid) {
       connected = false;
-      if (rapid < rapidEnds.size()) {
+      // A rapid that does not move (rs274 prints one for a bare G0) leaves the tool where it was.
+      if (rapid < rapidEnds.size() && m.end != m.start) {
         const auto& [end, d] = rapidEnds[rapid];
         lastDirections = d;
         const double e = (tip(m.end, d) - end).norm();

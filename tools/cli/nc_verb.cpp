@@ -20,11 +20,24 @@
 #include "volcomp/nc/nc_error.hpp"
 #include "volcomp/nc/ngc_reader.hpp"
 #include "volcomp/nc/text_io.hpp"
+#include "volcomp/output/output_file.hpp"
 
 namespace volcomp::cli {
 namespace {
 
 using OrderedJson = nlohmann::ordered_json;
+
+// The compensated program into an output file's stream (buffered there).
+class StreamSink final : public nc::TextSink {
+ public:
+  explicit StreamSink(std::ostream& out) : out_(out) {}
+  void write(std::string_view text) override {
+    out_.write(text.data(), static_cast<std::streamsize>(text.size()));
+  }
+
+ private:
+  std::ostream& out_;
+};
 
 OrderedJson listedLines(const std::vector<nc::ListedLine>& lines, bool withAxes) {
   OrderedJson a = OrderedJson::array();
@@ -265,23 +278,22 @@ int runNc(const NcOptions& options, std::ostream& err) {
     reader = std::make_unique<nc::NgcReader>(options.inputPath, offsets, tools, start, decimals);
   }
 
-  // Written next to the output and renamed when complete: a rejected program leaves nothing.
-  const std::string partial = options.outPath + ".partial";
+  // The program goes through volcomp::output (a temporary file beside the target, renamed when
+  // complete): a rejected program leaves the target as it was, and no input is overwritten.
+  std::vector<std::filesystem::path> inputs{options.inputPath, options.modelPath};
+  for (const std::string& file : options.workOffsets) inputs.emplace_back(file);
+  if (!options.toolTable.empty()) inputs.emplace_back(options.toolTable);
+  output::OutputFile program(options.outPath, inputs);
+  if (!options.reportPath.empty()) output::refuseInputAsOutput(options.reportPath, inputs);
   nc::NcReport report;
-  try {
+  {
     nc::FileSource source(options.inputPath);
-    nc::FileSink sink(partial);
+    StreamSink sink(program.stream());
     nc::Compensator compensator(field, compensate, start);
     Progress progress(err, options.quiet);
     report = compensator.run(*reader, source, sink, std::ref(progress));
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(partial, ignored);
-    throw;
   }
-  std::error_code ec;
-  std::filesystem::rename(partial, options.outPath, ec);
-  if (ec) throw UsageError("nc: cannot write " + options.outPath + ": " + ec.message());
+  program.commit();
   report.input = options.inputPath;
   report.decimalsMm = decimals.mm;
   report.decimalsInch = decimals.inch;
@@ -289,9 +301,8 @@ int runNc(const NcOptions& options, std::ostream& err) {
     report.ignoredCanonical = canon->ignored();
   }
   if (!options.reportPath.empty()) {
-    std::ofstream out(options.reportPath);
-    out << reportJson(report, options).dump(2) << '\n';
-    if (!out) throw UsageError("nc: cannot write the report " + options.reportPath);
+    inputs.emplace_back(options.outPath);
+    output::writeOutputFile(options.reportPath, reportJson(report, options).dump(2) + "\n", inputs);
   }
   if (!options.quiet) summary(err, report, options);
   return report.notConverged > 0 ? kExitNotConverged : kExitOk;

@@ -267,11 +267,15 @@ struct Compensator::Impl {
     }
     boundaries.push_back(1.0);
     std::sort(boundaries.begin(), boundaries.end());
-    // Boundaries closer than 1e-9 to the previous one (or to the end) are dropped.
+    // Boundaries closer than 1e-9, or than a hundredth of the tolerance along the move, to the
+    // previous one (or to the end) are dropped. An arc whose end is an axis' extremum, written
+    // with a few decimals, passes it by nanometres: that is no reversal of the axis (a machine
+    // does not turn its direction for a nanometre), and a section there would write two.
     {
+      const double gap = std::max(1e-9, 0.01 * tolerance / std::max(m.lengthMm(), 1e-12));
       std::size_t kept = 1;
       for (std::size_t i = 1; i + 1 < boundaries.size(); ++i) {
-        if (boundaries[i] > boundaries[kept - 1] + 1e-9 && boundaries[i] < 1.0 - 1e-9) {
+        if (boundaries[i] > boundaries[kept - 1] + gap && boundaries[i] < 1.0 - gap) {
           boundaries[kept++] = boundaries[i];
         }
       }

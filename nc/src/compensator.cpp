@@ -267,12 +267,14 @@ struct Compensator::Impl {
     }
     boundaries.push_back(1.0);
     std::sort(boundaries.begin(), boundaries.end());
-    // Boundaries closer than 1e-9, or than a hundredth of the tolerance along the move, to the
+    // Boundaries closer than 1e-9, or than a tenth of the tolerance along the move, to the
     // previous one (or to the end) are dropped. An arc whose end is an axis' extremum, written
-    // with a few decimals, passes it by nanometres: that is no reversal of the axis (a machine
-    // does not turn its direction for a nanometre), and a section there would write two.
+    // with a few decimals, passes it by a few tens of nanometres of path, in which the axis
+    // moves back by picometres: that is no reversal (a machine does not turn its direction for
+    // that), and a section there would write two and compensate the next move, if that axis
+    // stands still in it, with the wrong direction.
     {
-      const double gap = std::max(1e-9, 0.01 * tolerance / std::max(m.lengthMm(), 1e-12));
+      const double gap = std::max(1e-9, 0.1 * tolerance / std::max(m.lengthMm(), 1e-12));
       std::size_t kept = 1;
       for (std::size_t i = 1; i + 1 < boundaries.size(); ++i) {
         if (boundaries[i] > boundaries[kept - 1] + gap && boundaries[i] < 1.0 - gap) {

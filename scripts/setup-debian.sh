@@ -22,7 +22,8 @@ packages=(
   # CAN tests in a QEMU guest (this kernel may have no CAN): emulator, busybox, can-utils
   qemu-system-x86 busybox-static can-utils
   # controller-table tests: LinuxCNC 2.9 (headless, simulated machine; python3 linuxcnc and hal
-  # modules) and flock for its one-instance lock
+  # modules) and flock for its one-instance lock; NC program tests: its standalone interpreter
+  # rs274 and its sample programs (nc_files)
   linuxcnc-uspace util-linux
   # robustness pass (scripts/robustness.sh): clang's libFuzzer and sanitizer runtimes; llvm for
   # the fuzz coverage report (scripts/fuzz-coverage.sh)

@@ -1,5 +1,5 @@
 // volcomp: command-line access to volumetric error models (verbs `eval`, `check`, `calibrate`,
-// `plan`, `iso230-2`, `export`, `report`).
+// `plan`, `iso230-2`, `export`, `report`, `nc`).
 // Errors are caught here only: one line on stderr, exit status 2 for bad arguments or files.
 
 #include <exception>
@@ -16,9 +16,11 @@
 #include "iso230_2_verb.hpp"
 #include "report_verb.hpp"
 #include "plan_verb.hpp"
+#include "nc_verb.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/printable.hpp"
 #include "volcomp/model/types.hpp"
+#include "volcomp/nc/nc_error.hpp"
 #include "volcomp/output/output_file.hpp"
 
 namespace {
@@ -45,7 +47,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("volcomp ") + VOLCOMP_VERSION);
   app.require_subcommand(1);
   app.footer(
-      "Exit status: 0 success; 2 bad arguments or bad file; 3 (eval) an offset did not "
+      "Exit status: 0 success; 2 bad arguments or bad file; 3 (eval, nc) an offset did not "
       "converge. Run 'volcomp VERB --help' for a verb's options.");
   EvalOptions evalOptions;
   CheckOptions checkOptions;
@@ -62,6 +64,8 @@ int main(int argc, char** argv) {
   CLI::App* report = addReportVerb(app, reportOptions);
   PlanArguments planArguments;
   CLI::App* plan = addPlanVerb(app, planArguments);
+  NcOptions ncOptions;
+  CLI::App* ncVerb = addNcVerb(app, ncOptions);
 
   try {
     app.parse(argc, argv);
@@ -82,7 +86,11 @@ int main(int argc, char** argv) {
       resolvePlanArguments(planArguments);
       return volcomp::calibration::runPlan(planArguments.options, std::cout);
     }
+    if (ncVerb->parsed()) return runNc(ncOptions, std::cerr);
   } catch (const volcomp::config::ConfigError& e) {
+    std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
+    return kExitBadInput;
+  } catch (const volcomp::nc::NcError& e) {
     std::cerr << "volcomp: " << oneLine(e.what()) << '\n';
     return kExitBadInput;
   } catch (const UsageError& e) {

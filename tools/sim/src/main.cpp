@@ -25,6 +25,7 @@
 #include "volcomp/sim/commands.hpp"
 #include "volcomp/sim/machine.hpp"
 #include "volcomp/sim/modbus_server.hpp"
+#include "volcomp/sim/nc_run.hpp"
 #include "volcomp/sim/sim_config.hpp"
 
 namespace {
@@ -113,6 +114,9 @@ bool pathInsideTravel(const volcomp::sim::Path& path, const volcomp::sim::Travel
 }  // namespace
 
 int main(int argc, char** argv) {
+  // `volcomp-sim nc-run ...`: an NC program on the simulated machine, without a controller link.
+  if (argc > 1 && std::string(argv[1]) == "nc-run")
+    return volcomp::sim::ncRunMain(argc - 1, argv + 1);
   CLI::App app{"volcomp-sim: a simulated machine and controller for volcompd (Modbus TCP/RTU, CAN)",
                "volcomp-sim"};
   app.set_version_flag("--version", std::string("volcomp-sim ") + VOLCOMP_VERSION);

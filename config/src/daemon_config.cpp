@@ -7,6 +7,9 @@
 #include "volcomp/config/json_reader.hpp"
 
 namespace volcomp::config {
+
+const double kDefaultStopTimeoutS = VOLCOMPD_DEFAULT_STOP_TIMEOUT_S;
+
 namespace {
 
 std::string shortNumber(double v) {
@@ -28,14 +31,47 @@ std::string resolveAgainst(const std::string& file, const std::string& relative)
   return (std::filesystem::path(file).parent_path() / p).lexically_normal().string();
 }
 
+// Bounds that keep a configuration safe to run: an offset band no wider than a machine tool's
+// compensation needs unless the file says so, and a stop that ends before systemd kills it.
+void checkBounds(const JsonReader& root, const DaemonConfig& c) {
+  const JsonReader limiter = root.at("limiter");
+  if (c.limiter.maxOffsetMm > kMaxOffsetWithoutOverrideMm &&
+      !limiter.booleanOr("allow_max_offset_above_2mm", false)) {
+    limiter.at("max_offset_mm")
+        .failExpected("at most " + shortNumber(kMaxOffsetWithoutOverrideMm) +
+                      " mm (geometric compensation rarely needs more than tens of um; set "
+                      "\"allow_max_offset_above_2mm\": true in \"limiter\" if this machine "
+                      "really does)");
+  }
+  const double rampS = rampOutSeconds(c.limiter);
+  const double stopS = 2.0 * rampS + 1.0;
+  if (stopS > c.stopTimeoutS) {
+    limiter.fail("the ramp-out takes up to " + shortNumber(rampS) +
+                 " s (max_offset_mm / max_rate_mm_s), and a stop may take 2 x that + 1 s = " +
+                 shortNumber(stopS) + " s, longer than the service's stop timeout of " +
+                 shortNumber(c.stopTimeoutS) +
+                 " s (stop_timeout_s, TimeoutStopSec of the unit): systemd would kill the daemon "
+                 "with offsets applied. Raise max_rate_mm_s to at least " +
+                 shortNumber(2.0 * c.limiter.maxOffsetMm / (c.stopTimeoutS - 1.0)) +
+                 " mm/s, lower max_offset_mm, or raise TimeoutStopSec in a drop-in and "
+                 "stop_timeout_s here");
+  }
+}
+
 }  // namespace
+
+double rampOutSeconds(const loop::LimiterSettings& limiter) noexcept {
+  double s = limiter.maxOffsetMm / limiter.maxRateMmS;
+  if (limiter.maxAccelMmS2 > 0.0) s += 2.0 * limiter.maxRateMmS / limiter.maxAccelMmS2;
+  return s;
+}
 
 DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string& file) {
   const JsonReader root(document, file);
   root.allowOnly({"cycle_period_ms", "position_semantics", "limiter", "stale_timeout_ms",
                   "frozen_positions_are_stale", "travel_margin_mm", "direction_hysteresis_mm",
                   "offset_readback", "plc_zero_after_ms", "model", "reconnect", "log_level",
-                  "transport"});
+                  "stop_timeout_s", "accept_model_beyond_max_offset", "transport"});
   DaemonConfig c;
   c.file = file;
   if (auto v = root.find("cycle_period_ms")) c.cyclePeriodMs = v->number(1.0, 1000.0);
@@ -44,7 +80,8 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
                             : loop::PositionSemantics::Commanded;
 
   const JsonReader limiter = root.at("limiter");
-  limiter.allowOnly({"max_offset_mm", "max_rate_mm_s", "max_accel_mm_s2"});
+  limiter.allowOnly(
+      {"max_offset_mm", "max_rate_mm_s", "max_accel_mm_s2", "allow_max_offset_above_2mm"});
   c.limiter.maxOffsetMm = positiveNumber(limiter.at("max_offset_mm"), 100.0);
   c.limiter.maxRateMmS = positiveNumber(limiter.at("max_rate_mm_s"), 1000.0);
   if (auto v = limiter.find("max_accel_mm_s2")) c.limiter.maxAccelMmS2 = v->number(0.0, 1e6);
@@ -90,6 +127,10 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
   if (auto v = root.find("log_level")) {
     c.logLevel = v->oneOf({"trace", "debug", "info", "warn", "error", "critical", "off"});
   }
+
+  if (auto v = root.find("stop_timeout_s")) c.stopTimeoutS = positiveNumber(*v, 3600.0);
+  c.acceptModelBeyondMaxOffset = root.booleanOr("accept_model_beyond_max_offset", false);
+  checkBounds(root, c);
 
   c.transport = parseTransportSettings(root.at("transport").json(), file, "transport");
   return c;

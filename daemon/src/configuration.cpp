@@ -7,6 +7,7 @@
 
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/config/model_plausibility.hpp"
 
 namespace volcomp::daemon {
 namespace {
@@ -20,11 +21,12 @@ std::chrono::nanoseconds fromMs(double ms) noexcept {
 LoadedConfiguration loadConfiguration(const std::string& configPath) {
   LoadedConfiguration loaded;
   loaded.config = config::loadDaemonConfig(configPath);
-  loaded.model = loadCompensationModel(loaded.config.modelPath);
+  loaded.model = loadCompensationModel(loaded.config.modelPath, config::offsetBoundOf(loaded.config));
   return loaded;
 }
 
-std::shared_ptr<loop::CompensationModel> loadCompensationModel(const std::string& path) {
+std::shared_ptr<loop::CompensationModel> loadCompensationModel(
+    const std::string& path, const std::optional<config::OffsetBound>& bound) {
   config::ModelDocument document = config::loadModelFile(path);
   auto* spec = std::get_if<model::MachineModelSpec>(&document.spec);
   if (spec == nullptr) {
@@ -33,8 +35,11 @@ std::shared_ptr<loop::CompensationModel> loadCompensationModel(const std::string
                               "cannot be used for live compensation");
   }
   std::string name = spec->name.empty() ? path : spec->name;
-  return std::make_shared<loop::MachineModelCompensation>(model::MachineModel(std::move(*spec)),
-                                                          std::move(name));
+  model::MachineModel model(std::move(*spec));
+  // At start, --check-config and every reload (which runs this on its helper thread): a refused
+  // model never reaches the loop, and a refused reload keeps the running one.
+  config::requirePlausible(document, config::assessModel(model), bound);
+  return std::make_shared<loop::MachineModelCompensation>(std::move(model), std::move(name));
 }
 
 loop::LoopSettings loopSettingsFrom(const config::DaemonConfig& c) noexcept {

@@ -147,8 +147,9 @@ TEST(CliEval, ReadableTableWithoutJson) {
   const CliRun run = runCli(dir, "eval " + quoted(model) + " --at 1,2,3");
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("gantry (FXYZ)"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("error          0.25, 0, 0  mm"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("offset         -0.25, 0, 0  mm (converged"), std::string::npos)
+  // On screen in um to 4 significant digits (EXX = 0.25 mm).
+  EXPECT_NE(run.out.find("error          250, 0, 0  um"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("offset         -250, 0, 0  um (converged"), std::string::npos)
       << run.out;
 }
 

@@ -7,9 +7,13 @@
 ///   {
 ///     "cycle_period_ms": 10,                 period of the cycle, ms, in [1, 1000]
 ///   * "position_semantics": "commanded" | "actual",
-///   * "limiter": {"max_offset_mm": 0.5,      clamp band, mm, in (0, 100]
+///   * "limiter": {"max_offset_mm": 0.5,      clamp band, mm, in (0, 2] (up to 100 with
+///                                            "allow_max_offset_above_2mm": true)
 ///                 "max_rate_mm_s": 1.0,      slew limit, mm/s, in (0, 1000]
 ///                 "max_accel_mm_s2": 0},     optional acceleration limit, mm/s^2, 0 = none
+///     "stop_timeout_s": 15,                  the unit's TimeoutStopSec: the ramp-out must fit
+///     "accept_model_beyond_max_offset": false,  a model whose offsets exceed max_offset_mm is
+///                                            refused unless this is true
 ///     "stale_timeout_ms": 500,               > cycle_period_ms
 ///     "frozen_positions_are_stale": false,   also treat unchanged positions as stale input
 ///     "travel_margin_mm": 1.0,               >= 0
@@ -37,6 +41,11 @@
 
 namespace volcomp::config {
 
+/// TimeoutStopSec of the installed systemd unit.
+extern const double kDefaultStopTimeoutS;
+/// Largest max_offset_mm without "allow_max_offset_above_2mm": true.
+inline constexpr double kMaxOffsetWithoutOverrideMm = 2.0;
+
 struct ReconnectConfig {
   double initialMs = 100.0;
   double maxMs = 2000.0;
@@ -53,12 +62,22 @@ struct DaemonConfig {
   double directionHysteresisMm = 0.002;
   bool offsetReadback = true;
   std::optional<double> plcZeroAfterMs;
+  /// The service manager's stop timeout (TimeoutStopSec of the installed unit by default); the
+  /// longest stop, 2 x rampOutSeconds() + 1 s, must fit in it.
+  double stopTimeoutS = kDefaultStopTimeoutS;
+  /// Accept a model whose offsets exceed the limiter's max_offset somewhere in the travel (the
+  /// limiter clamps them; tests of the clamp and installations that want it say so explicitly).
+  bool acceptModelBeyondMaxOffset = false;
   std::string modelPath;  ///< resolved against the configuration file's directory
   ReconnectConfig reconnect;
   std::string logLevel = "info";
   /// The "transport" section, read into its driver's settings (transportType() names it).
   TransportSettings transport;
 };
+
+/// Time the limiter needs to ramp the largest allowed offset out: max_offset / max_rate, plus the
+/// acceleration and braking phases (2 x max_rate / max_accel) when an acceleration limit is set.
+double rampOutSeconds(const loop::LimiterSettings& limiter) noexcept;
 
 /// Reads and validates a daemon configuration file. Throws ConfigError (file, key path, what was
 /// expected) on any problem, including a file that cannot be read or is not JSON.

@@ -17,6 +17,11 @@ std::string significant(double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
   std::string text = buffer;
+  // Trailing zeros say nothing about precision here: "15.60" -> "15.6", "250.0" -> "250".
+  if (text.find('.') != std::string::npos) {
+    text.erase(text.find_last_not_of('0') + 1);
+    if (text.back() == '.') text.pop_back();
+  }
   // "-0.000" is a rounded zero: no sign on it.
   if (text.front() == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
   return text;

@@ -1,4 +1,4 @@
-// `volcomp eval --at ... --json` against the worked examples of shared/spec/model.md section 4,
+// `volcomp eval --at ... --json` against the worked examples of docs/model-file.md ("What the model computes"),
 // tool override, directions, travel warnings, D-H chains and non-convergence.
 
 #include <gtest/gtest.h>

@@ -8,6 +8,7 @@
 #include <variant>
 
 #include "cli_support.hpp"
+#include "model_schema.hpp"
 #include "volcomp/config/daemon_config.hpp"
 #include "volcomp/config/display_units.hpp"
 #include "volcomp/config/model_file.hpp"
@@ -89,20 +90,20 @@ void describeMotion(std::ostream& out, const model::MachineModelSpec& spec, int 
   out << line << '\n';
 }
 
-// Which side of the frame each axis is on decides the sign of what a user types in (the
-// measured deviation is the tool relative to the workpiece; a component moves its carriage).
+// Which side of the frame each axis is on decides the sign of what a user types in: an
+// instrument reads the tool relative to the workpiece, a motion error moves the axis' carriage.
 void describeSides(std::ostream& out, const model::MachineModelSpec& spec) {
   const model::Topology topology(spec.topology);
   for (int axis = 0; axis < 3; ++axis) {
     const bool workpiece = topology.isWorkpieceSide(static_cast<model::Axis>(axis));
     out << (axis == 0 ? "sides       " : "            ") << "XYZ"[axis]
-        << (workpiece ? " workpiece side (carries the workpiece): component = -(measured "
-                        "tool-to-workpiece deviation)\n"
-                      : " tool side (carries the tool): component = +(measured "
-                        "tool-to-workpiece deviation)\n");
+        << (workpiece ? " workpiece side (moves the workpiece): its motion errors = -(reading of "
+                        "the tool relative to the workpiece)\n"
+                      : " tool side (moves the tool): its motion errors = +(reading of the tool "
+                        "relative to the workpiece)\n");
   }
-  out << "            (which sign for a laser, straightedge or ball-bar: docs/model-file.md, "
-         "\"Entering measured data\")\n";
+  out << "            squareness and grids = +reading on either side (laser, straightedge, "
+         "ball-bar: docs/model-file.md, \"Entering measured data\")\n";
 }
 
 void describeAssessment(std::ostream& out, const config::ModelAssessment& a,
@@ -236,7 +237,12 @@ CLI::App* addCheckVerb(CLI::App& app, CheckOptions& options) {
       "Validate a model file and summarise it: topology or D-H chain, travel, tool, "
       "units, each component with its kind, range and peak |value| (in the file's "
       "units), grids with shape and peak.");
-  verb->add_option("model", options.modelPath, "Model file (volcomp-model/1 JSON)")->required();
+  CLI::Option* schema = verb->add_flag(
+      "--schema", options.printSchema,
+      "Print the JSON Schema of the model format (config/schema/volcomp-model-1.schema.json, "
+      "for editors; volcomp's reader is the authority) and exit");
+  verb->add_option("model", options.modelPath, "Model file (volcomp-model/1 JSON)")
+      ->excludes(schema);
   verb->add_flag("--template", options.calibrationTemplate,
                  "Accept a calibration template (\"identify\" blocks) and list what it identifies");
   CLI::Option* config =
@@ -260,6 +266,11 @@ CLI::App* addCheckVerb(CLI::App& app, CheckOptions& options) {
 }
 
 int runCheck(const CheckOptions& options, std::ostream& out) {
+  if (options.printSchema) {
+    out << kModelSchema;
+    return kExitOk;
+  }
+  if (options.modelPath.empty()) throw UsageError("check: a model file is required (or --schema)");
   config::ParseOptions parse;
   parse.allowIdentify = options.calibrationTemplate;
   const config::ModelDocument doc = config::loadModelFile(options.modelPath, parse);

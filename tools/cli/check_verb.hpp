@@ -16,6 +16,8 @@ struct CheckOptions {
   /// Or the limit itself, mm (0 = none).
   double maxOffsetMm = 0.0;
   std::string angleUnit = "urad";
+  /// Print the model format's JSON Schema instead of checking a file.
+  bool printSchema = false;
 };
 
 CLI::App* addCheckVerb(CLI::App& app, CheckOptions& options);

@@ -9,8 +9,8 @@
 
 namespace volcomp::config {
 
-/// `value` with 4 significant digits and at most 3 decimals, fixed notation ("16.24", "1234",
-/// "0.012", "-3.25"); -0 prints as 0.
+/// `value` with 4 significant digits and at most 3 decimals, fixed notation, trailing zeros
+/// dropped ("16.24", "1234", "0.012", "-3.25", "15.6", "250"); -0 prints as 0.
 std::string significant(double value);
 
 /// mm -> "16.24 um" (significant() of the value in um, with the unit).

@@ -17,6 +17,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev socat python3 systemd
   # the report opened in a headless browser
   chromium
+  # the model format's JSON Schema checked against the examples (tests/config/schema_test.py)
+  python3-jsonschema
   # CAN tests in a QEMU guest (this kernel may have no CAN): emulator, busybox, can-utils
   qemu-system-x86 busybox-static can-utils
   # controller-table tests: LinuxCNC 2.9 (headless, simulated machine; python3 linuxcnc and hal

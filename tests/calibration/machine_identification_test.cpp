@@ -40,6 +40,8 @@ void expectWithinSigma(const FitResult& fit, const Eigen::VectorXd& truth, int a
 json fxyzTruth() {
   return json{{"format", "volcomp-model/1"},
               {"topology", "FXYZ"},
+              // The synthetic points' box: a polynomial needs the travel it holds over.
+              {"travel", {{"X", {0, 800}}, {"Y", {0, 500}}, {"Z", {-400, 0}}}},
               {"tool", {0, 0, 100}},
               {"error_units", {{"length", "um"}, {"angle", "urad"}}},
               {"components",

@@ -93,7 +93,7 @@ void describeMotion(std::ostream& out, const model::MachineModelSpec& spec, int 
 // Which side of the frame each axis is on decides the sign of what a user types in: an
 // instrument reads the tool relative to the workpiece, a motion error moves the axis' carriage.
 void describeSides(std::ostream& out, const model::MachineModelSpec& spec) {
-  const model::Topology topology(spec.topology);
+  const model::Topology topology = model::Topology::parse(spec.topology);
   for (int axis = 0; axis < 3; ++axis) {
     const bool workpiece = topology.isWorkpieceSide(static_cast<model::Axis>(axis));
     out << (axis == 0 ? "sides       " : "            ") << "XYZ"[axis]

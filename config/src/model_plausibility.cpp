@@ -19,8 +19,7 @@ constexpr const char* kAxes = "XYZ";
 constexpr int kComponentSamples = 2001;
 
 std::string pointText(const Eigen::Vector3d& q) {
-  return "(" + significant(q.x()) + ", " + significant(q.y()) + ", " + significant(q.z()) +
-         ") mm";
+  return "(" + significant(q.x()) + ", " + significant(q.y()) + ", " + significant(q.z()) + ") mm";
 }
 
 // The range to sample on each axis: its travel, else what its tables and grids span.
@@ -178,8 +177,8 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
                       "as mm and rad, and a laser reading typed in um becomes 1000 times too "
                       "large)");
   }
-  const std::string limitText = limits.stated ? " (the file's plausibility limit)"
-                                              : " (the default plausibility limit)";
+  const std::string limitText =
+      limits.stated ? " (the file's plausibility limit)" : " (the default plausibility limit)";
   for (int i = 0; i < 18; ++i) {
     const bool translation = i % 6 < 3;
     const double limit = translation ? limits.maxLengthMm : limits.maxAngleRad;
@@ -190,8 +189,9 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
     throw ConfigError(
         doc.file, "components." + model::motionName(i),
         "implausible for a machine tool: |value| reaches " + significant(peak / factor) + " " +
-            unit + " (" + (translation ? micrometres(peak) : angle(peak, AngleDisplay::Microradian)) +
-            ") at " + kAxes[i / 6] + " = " + significant(a.motionPeakAtMm[i]) + " mm, beyond " +
+            unit + " (" +
+            (translation ? micrometres(peak) : angle(peak, AngleDisplay::Microradian)) + ") at " +
+            kAxes[i / 6] + " = " + significant(a.motionPeakAtMm[i]) + " mm, beyond " +
             (translation ? micrometres(limit) : angle(limit, AngleDisplay::Microradian)) +
             limitText + "." + unitHint(doc, translation, peak / factor, limit / factor) +
             overrideHint());
@@ -242,8 +242,8 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
     if (a.peakOffsetMm[k] <= bound->maxOffsetMm[k]) continue;
     throw ConfigError(
         doc.file, "",
-        std::string("the model asks for an offset of ") + micrometres(a.peakOffsetMm[k]) +
-            " on " + kAxes[k] + " at " + pointText(a.peakOffsetAtMm[k]) + ", beyond " +
+        std::string("the model asks for an offset of ") + micrometres(a.peakOffsetMm[k]) + " on " +
+            kAxes[k] + " at " + pointText(a.peakOffsetAtMm[k]) + ", beyond " +
             micrometres(bound->maxOffsetMm[k]) + " (" + bound->source +
             "): the limiter would clamp the correction there and miscompensate the machine. "
             "Check the model's values and units, or raise max_offset_mm if the machine needs it");

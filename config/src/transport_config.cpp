@@ -35,8 +35,8 @@ std::string transportEndpoint(const TransportSettings& settings) {
     }
     const auto& rtu = std::get<modbus::RtuLink>(modbus->link);
     return "modbus-rtu " + rtu.device + " (" + std::to_string(rtu.baud) + " " +
-           std::to_string(rtu.dataBits) + rtu.parity + std::to_string(rtu.stopBits) +
-           ", slave " + std::to_string(modbus->slaveId) + ")";
+           std::to_string(rtu.dataBits) + rtu.parity + std::to_string(rtu.stopBits) + ", slave " +
+           std::to_string(modbus->slaveId) + ")";
   }
   if (const auto* can = std::get_if<can::CanLayout>(&settings)) return "can " + can->interfaceName;
   return transportType(settings);

@@ -21,7 +21,8 @@ std::chrono::nanoseconds fromMs(double ms) noexcept {
 LoadedConfiguration loadConfiguration(const std::string& configPath) {
   LoadedConfiguration loaded;
   loaded.config = config::loadDaemonConfig(configPath);
-  loaded.model = loadCompensationModel(loaded.config.modelPath, config::offsetBoundOf(loaded.config));
+  loaded.model =
+      loadCompensationModel(loaded.config.modelPath, config::offsetBoundOf(loaded.config));
   return loaded;
 }
 

@@ -169,8 +169,7 @@ void Daemon::logReport(const CycleReport& report) {
       break;
     case LoopState::LinkLost:
       spdlog::warn("{} -> link lost to {}{}{}; reconnecting with backoff", from,
-                   config::transportEndpoint(config_.transport), error.empty() ? "" : ": ",
-                   error);
+                   config::transportEndpoint(config_.transport), error.empty() ? "" : ": ", error);
       break;
     case LoopState::Starting:
       if (report.fault != FaultCode::None) {

@@ -83,7 +83,8 @@ bool testCycle(loop::ControllerPort& port, const config::DaemonConfig& config, T
       loop::limitStep(config.limiter, run.limiter, targetMm, config.cyclePeriodMs / 1000.0);
   loop::OffsetCommand command;
   command.offsetMm = limited.offsetMm;
-  command.status = static_cast<std::uint16_t>(status | (limited.limited ? loop::status::kLimited : 0));
+  command.status =
+      static_cast<std::uint16_t>(status | (limited.limited ? loop::status::kLimited : 0));
   command.heartbeat = ++run.heartbeat;
   if ((run.error = port.write(command))) return false;
   run.lastWrittenMm = limited.offsetMm;
@@ -116,8 +117,8 @@ int runTestOffset(loop::ControllerPort& port, const RawView& raw,
   if (before.hasAppliedOffsets) {
     for (int k = 0; k < 3; ++k) {
       if (std::abs(before.appliedOffsetMm[k]) > 1e-6) {
-        out << "test-offset: not run: the controller applies " << signedMicrometres(before.appliedOffsetMm[k])
-            << " on " << kAxes[k]
+        out << "test-offset: not run: the controller applies "
+            << signedMicrometres(before.appliedOffsetMm[k]) << " on " << kAxes[k]
             << " now; is volcompd running? Stop it (its stop ramps the offsets out) first\n";
         return 1;
       }
@@ -128,8 +129,9 @@ int runTestOffset(loop::ControllerPort& port, const RawView& raw,
     const double waitMs = config.plcZeroAfterMs.value_or(0.0);
     out << "test-offset: no read-back mapped: waiting " << waitMs
         << " ms (plc_zero_after_ms) for the PLC to have removed earlier offsets\n";
-    std::this_thread::sleep_until(Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                                     std::chrono::duration<double, std::milli>(waitMs)));
+    std::this_thread::sleep_until(Clock::now() +
+                                  std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double, std::milli>(waitMs)));
   }
 
   catchInterrupts();
@@ -139,18 +141,22 @@ int runTestOffset(loop::ControllerPort& port, const RawView& raw,
   loop::AxisSample sample = before;
   Pacer pacer(config.cyclePeriodMs);
   const auto start = Clock::now();
-  out << "test-offset: " << axis << ' ' << signedMicrometres(test.offsetMm) << " through the limiter ("
-      << config::micrometres(config.limiter.maxRateMmS) << "/s), held " << options.holdS << " s, then ramped out\n";
+  out << "test-offset: " << axis << ' ' << signedMicrometres(test.offsetMm)
+      << " through the limiter (" << config::micrometres(config.limiter.maxRateMmS) << "/s), held "
+      << options.holdS << " s, then ramped out\n";
 
   // Ramp in, then hold: the heartbeat must keep moving or the PLC's watchdog drops the offset.
   std::optional<double> readBackAfterS;
   const auto holdEnd = [&] {
-    return Clock::now() - start >= std::chrono::duration<double>(options.holdS) + std::chrono::duration<double>(std::abs(test.offsetMm) / config.limiter.maxRateMmS);
+    return Clock::now() - start >=
+           std::chrono::duration<double>(options.holdS) +
+               std::chrono::duration<double>(std::abs(test.offsetMm) / config.limiter.maxRateMmS);
   };
   while (!gInterrupted && !holdEnd()) {
     if (!testCycle(port, config, run, target, loop::status::kActive, sample)) break;
     if (!readBackAfterS && atTarget(run, target) && sample.hasAppliedOffsets &&
-        std::abs(sample.appliedOffsetMm[test.axis] - test.offsetMm) < 1e-6 + std::abs(test.offsetMm) * 1e-3) {
+        std::abs(sample.appliedOffsetMm[test.axis] - test.offsetMm) <
+            1e-6 + std::abs(test.offsetMm) * 1e-3) {
       readBackAfterS = std::chrono::duration<double>(Clock::now() - start).count();
     }
     pacer.wait();
@@ -178,10 +184,11 @@ int runTestOffset(loop::ControllerPort& port, const RawView& raw,
   // The report.
   out << "report      axis " << axis << ", offset " << signedMicrometres(test.offsetMm) << '\n';
   if (heldError) {
-    out << "  FAILED: a transaction failed while the offset was applied: " << heldError.message() << '\n';
+    out << "  FAILED: a transaction failed while the offset was applied: " << heldError.message()
+        << '\n';
   }
-  out << "  written   " << signedMicrometres(run.lastWrittenMm[test.axis]) << " at the end (reached the target: "
-      << (reached ? "yes" : "no") << ")\n";
+  out << "  written   " << signedMicrometres(run.lastWrittenMm[test.axis])
+      << " at the end (reached the target: " << (reached ? "yes" : "no") << ")\n";
   int status = heldError || !reached ? 1 : 0;
   if (held.hasAppliedOffsets) {
     const double back = held.appliedOffsetMm[test.axis];
@@ -214,7 +221,8 @@ int runTestOffset(loop::ControllerPort& port, const RawView& raw,
               ? "actual positions: a machine at rest moves by the offset, +5 um -> +5 um"
               : "commanded positions: they do not include the offset")
       << ")\n";
-  out << "  ramp-out  " << (rampedOut ? "zero written with status 0" : "FAILED: " + run.error.message())
+  out << "  ramp-out  "
+      << (rampedOut ? "zero written with status 0" : "FAILED: " + run.error.message())
       << (gInterrupted ? " (interrupted)" : "") << '\n';
   if (!rampedOut) status = 1;
   out << "  on the machine: with the tool at rest, +" << axis
@@ -227,8 +235,9 @@ int runTestOffset(loop::ControllerPort& port, const RawView& raw,
 
 TestOffset parseTestOffset(const std::string& text) {
   const auto bad = [&](const std::string& why) {
-    return std::invalid_argument("--test-offset: expected AXIS:VALUE[um|mm|nm], e.g. X:5um, got \"" +
-                                 text + "\" (" + why + ")");
+    return std::invalid_argument(
+        "--test-offset: expected AXIS:VALUE[um|mm|nm], e.g. X:5um, got \"" + text + "\" (" + why +
+        ")");
   };
   const std::size_t colon = text.find(':');
   if (colon != 1) throw bad("the axis X, Y or Z, then ':'");
@@ -237,7 +246,8 @@ TestOffset parseTestOffset(const std::string& text) {
   std::string rest = text.substr(2);
   rest.erase(std::remove(rest.begin(), rest.end(), ' '), rest.end());
   double factor = 1e-3;
-  for (const auto& [suffix, f] : {std::pair{"um", 1e-3}, std::pair{"mm", 1.0}, std::pair{"nm", 1e-6}}) {
+  for (const auto& [suffix, f] :
+       {std::pair{"um", 1e-3}, std::pair{"mm", 1.0}, std::pair{"nm", 1e-6}}) {
     const std::string s = suffix;
     if (rest.size() > s.size() && rest.compare(rest.size() - s.size(), s.size(), s) == 0) {
       factor = f;
@@ -248,7 +258,8 @@ TestOffset parseTestOffset(const std::string& text) {
   if (!rest.empty() && rest.front() == '+') rest.erase(0, 1);
   double value = 0.0;
   const auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), value);
-  if (ec != std::errc() || end != rest.data() + rest.size() || rest.empty() || !std::isfinite(value)) {
+  if (ec != std::errc() || end != rest.data() + rest.size() || rest.empty() ||
+      !std::isfinite(value)) {
     throw bad("a number");
   }
   if (value == 0.0) throw bad("a value other than 0");
@@ -267,8 +278,8 @@ int runProbe(const config::DaemonConfig& config, const ProbeOptions& options, st
       << transport.raw->readDescription() << '\n';
   loop::AxisSample sample;
   if (const std::error_code ec = readSample(*transport.port, sample, std::chrono::seconds(3))) {
-    out << "probe       FAILED: " << ec.message() << " (" << config::transportEndpoint(config.transport)
-        << ")\n";
+    out << "probe       FAILED: " << ec.message() << " ("
+        << config::transportEndpoint(config.transport) << ")\n";
     return 1;
   }
   out << "read        one consistent sample:\n";

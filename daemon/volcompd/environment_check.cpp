@@ -34,8 +34,9 @@ std::string checkDevice(const modbus::RtuLink& rtu, const std::string& file) {
   struct stat st {};
   if (::stat(rtu.device.c_str(), &st) != 0) {
     throw config::ConfigError(file, "transport.device",
-                              rtu.device + " does not exist: plug in the RS-485 adapter, or "
-                                           "give its stable name (ls -l /dev/serial/by-id/)");
+                              rtu.device +
+                                  " does not exist: plug in the RS-485 adapter, or "
+                                  "give its stable name (ls -l /dev/serial/by-id/)");
   }
   if (!S_ISCHR(st.st_mode)) {
     throw config::ConfigError(file, "transport.device",
@@ -65,7 +66,8 @@ std::string checkInterface(const can::CanLayout& layout, const std::string& file
 std::string checkTransportEnvironment(const config::TransportSettings& settings,
                                       const std::string& file) {
   if (const auto* modbus = std::get_if<modbus::ModbusSettings>(&settings)) {
-    if (const auto* tcp = std::get_if<modbus::TcpLink>(&modbus->link)) return resolveHost(*tcp, file);
+    if (const auto* tcp = std::get_if<modbus::TcpLink>(&modbus->link))
+      return resolveHost(*tcp, file);
     return checkDevice(std::get<modbus::RtuLink>(modbus->link), file);
   }
   if (const auto* can = std::get_if<can::CanLayout>(&settings)) return checkInterface(*can, file);

@@ -78,8 +78,8 @@ int run(const std::string& configPath, bool checkOnly, bool verbose) {
     loaded = volcomp::daemon::loadConfiguration(configPath);
     port = volcomp::volcompd::makeControllerPort(loaded.config.transport, loaded.config.file);
     if (checkOnly) {
-      environment = volcomp::volcompd::checkTransportEnvironment(loaded.config.transport,
-                                                                 loaded.config.file);
+      environment =
+          volcomp::volcompd::checkTransportEnvironment(loaded.config.transport, loaded.config.file);
     }
   } catch (const volcomp::config::ConfigError& e) {
     spdlog::error("{}", e.what());
@@ -158,7 +158,8 @@ int main(int argc, char** argv) {
       "file. Commissioning: docs/commissioning.md.");
   try {
     app.parse(argc, argv);
-    if (!testOffset.empty()) probeOptions.testOffset = volcomp::volcompd::parseTestOffset(testOffset);
+    if (!testOffset.empty())
+      probeOptions.testOffset = volcomp::volcompd::parseTestOffset(testOffset);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;

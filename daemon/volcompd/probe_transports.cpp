@@ -85,9 +85,8 @@ void printReadings(std::ostream& out, const modbus::FieldReadings& readings) {
     }
     std::string decoded;
     if (r.isValue) {
-      where += std::string(" ") + typeName(r.format.type) + " " + orderName(r.format.order) +
-               " x" + config::significant(r.format.countsPerMm) +
-               (r.format.sign < 0 ? " sign -1" : "");
+      where += std::string(" ") + typeName(r.format.type) + " " + orderName(r.format.order) + " x" +
+               config::significant(r.format.countsPerMm) + (r.format.sign < 0 ? " sign -1" : "");
       decoded = r.status == modbus::CodecStatus::NotFinite
                     ? "not a number"
                     : millimetres(r.valueMm) + " (" + config::micrometres(r.valueMm) + ")";
@@ -133,10 +132,9 @@ class ModbusRawView final : public RawView {
 
 const char* fieldName(can::Field f) {
   static constexpr const char* kNames[] = {
-      "position.X",       "position.Y", "position.Z", "enable",   "homed",
-      "applied_offset.X", "applied_offset.Y",         "applied_offset.Z",
-      "sequence",         "offset.X",   "offset.Y",   "offset.Z", "status",
-      "heartbeat"};
+      "position.X",       "position.Y",       "position.Z",       "enable",   "homed",
+      "applied_offset.X", "applied_offset.Y", "applied_offset.Z", "sequence", "offset.X",
+      "offset.Y",         "offset.Z",         "status",           "heartbeat"};
   return kNames[static_cast<std::size_t>(f)];
 }
 
@@ -146,8 +144,8 @@ void printFrames(std::ostream& out, const std::vector<can::FrameLayout>& layouts
     const can::Frame& frame = frames[i];
     char id[16];
     std::snprintf(id, sizeof id, layouts[i].extended ? "0x%08X" : "0x%03X", layouts[i].id);
-    out << "  frame " << id << " [" << static_cast<int>(frame.length)
-        << "] " << hexBytes(frame.data.data(), frame.length) << '\n';
+    out << "  frame " << id << " [" << static_cast<int>(frame.length) << "] "
+        << hexBytes(frame.data.data(), frame.length) << '\n';
     for (const can::FieldSignal& s : layouts[i].signals) {
       std::uint64_t raw = 0;
       double physical = 0.0;

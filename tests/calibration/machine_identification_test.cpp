@@ -63,8 +63,9 @@ json fxyzTemplate() {
 
 TEST(MachineIdentification, SingleToolLengthCannotSeparatePitchFromStraightnessAndOffset) {
   // With one tool length, EBX = b gives e_x = b (z + 100) (Abbe arm from the X carriage to the
-  // tool tip, the worked example of docs/model-file.md), which is exactly EXX c0 = 100 b plus EXZ c1 = b:
-  // the direction (EBX +1, EXZ c1 -1, EXX c0 -100) in raw units leaves every residual unchanged.
+  // tool tip, the worked example of docs/model-file.md), which is exactly EXX c0 = 100 b plus EXZ
+  // c1 = b: the direction (EBX +1, EXZ c1 -1, EXX c0 -100) in raw units leaves every residual
+  // unchanged.
   SyntheticOptions options;
   options.noiseMm = 1e-4;
   const MeasurementSet data = simulate(testing::machineSpec(fxyzTruth()), options);

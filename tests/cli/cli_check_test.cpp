@@ -140,15 +140,19 @@ TEST(CliCheck, PrintsEachAxisSideAndTheReadableAssessment) {
   TempDir dir;
   const CliRun run = runCli(dir, "check " + quoted(dir.write("um.json", kInUm)));
   ASSERT_EQ(run.status, 0) << run.err;
-  expectContains(run.out, "sides       X workpiece side (moves the workpiece): its motion errors "
-                          "= -(reading of the tool relative to the workpiece)");
-  expectContains(run.out, "            Z tool side (moves the tool): its motion errors = "
-                          "+(reading of the tool relative to the workpiece)");
+  expectContains(run.out,
+                 "sides       X workpiece side (moves the workpiece): its motion errors "
+                 "= -(reading of the tool relative to the workpiece)");
+  expectContains(run.out,
+                 "            Z tool side (moves the tool): its motion errors = "
+                 "+(reading of the tool relative to the workpiece)");
   expectContains(run.out, "squareness and grids = +reading on either side");
   expectContains(run.out, "plausible   over 21 x 21 x 21 points of X [0, 850]");
   expectContains(run.out, "peak |E|      15.6 um");
-  expectContains(run.out, "limits        values and |E| <= 1000 um, angles <= 10000 urad (defaults)");
-  const CliRun arcsec = runCli(dir, "check --angle-unit arcsec " + quoted((dir.path() / "um.json").string()));
+  expectContains(run.out,
+                 "limits        values and |E| <= 1000 um, angles <= 10000 urad (defaults)");
+  const CliRun arcsec =
+      runCli(dir, "check --angle-unit arcsec " + quoted((dir.path() / "um.json").string()));
   ASSERT_EQ(arcsec.status, 0) << arcsec.err;
   expectContains(arcsec.out, "angles <= 2063 arcsec (defaults)");
 }

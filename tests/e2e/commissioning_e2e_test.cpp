@@ -79,8 +79,8 @@ TEST_P(Commissioning, ProbeReadsOneSampleAndWritesNothing) {
   EXPECT_NE(out.find("probe       modbus-" + at.kind), std::string::npos) << out;
   EXPECT_NE(out.find("one FC03 of holding 0-13"), std::string::npos) << out;
   // Every decoded value with its register, type, order, scale and raw bytes.
-  for (const char* field : {"position.X", "position.Y", "position.Z", "enable", "homed",
-                            "sequence", "applied_offset.X", "applied_offset.Z"}) {
+  for (const char* field : {"position.X", "position.Y", "position.Z", "enable", "homed", "sequence",
+                            "applied_offset.X", "applied_offset.Z"}) {
     EXPECT_NE(out.find("  " + std::string(field)), std::string::npos) << field << '\n' << out;
   }
   EXPECT_NE(out.find("holding 0-1 int32 ABCD x10000"), std::string::npos) << out;
@@ -99,8 +99,7 @@ TEST_P(Commissioning, TestOffsetGoesThroughTheLimiterReadsBackAndRampsOut) {
   std::string out;
   ASSERT_EQ(probe(daemon, {"--test-offset", "X:5um", "--hold", "0.3"}, out), 0) << out;
   EXPECT_NE(out.find("test-offset: X +5 um through the limiter"), std::string::npos) << out;
-  EXPECT_NE(out.find("read back +5 um (applied_offset.X), equal to the target"),
-            std::string::npos)
+  EXPECT_NE(out.find("read back +5 um (applied_offset.X), equal to the target"), std::string::npos)
       << out;
   EXPECT_NE(out.find("ramp-out  zero written with status 0"), std::string::npos) << out;
   const json report = finishSim();

@@ -129,8 +129,8 @@ void describeAssessment(std::ostream& out, const config::ModelAssessment& a,
       << ", angles <= " << config::angle(doc.plausibility.maxAngleRad, angles)
       << (doc.plausibility.stated ? " (the file's)" : " (defaults)");
   if (bound) {
-    out << "; offsets <= " << config::micrometres(bound->maxOffsetMm[0]) << " ("
-        << bound->source << ")";
+    out << "; offsets <= " << config::micrometres(bound->maxOffsetMm[0]) << " (" << bound->source
+        << ")";
   }
   out << '\n';
 }
@@ -245,10 +245,9 @@ CLI::App* addCheckVerb(CLI::App& app, CheckOptions& options) {
       ->excludes(schema);
   verb->add_flag("--template", options.calibrationTemplate,
                  "Accept a calibration template (\"identify\" blocks) and list what it identifies");
-  CLI::Option* config =
-      verb->add_option("--config", options.daemonConfig,
-                       "volcompd configuration: the model's offsets must fit its "
-                       "limiter.max_offset_mm");
+  CLI::Option* config = verb->add_option("--config", options.daemonConfig,
+                                         "volcompd configuration: the model's offsets must fit its "
+                                         "limiter.max_offset_mm");
   verb->add_option("--max-offset", options.maxOffsetMm,
                    "The model's offsets must fit this limit (mm), as the daemon's limiter")
       ->check(CLI::PositiveNumber)

@@ -1,6 +1,7 @@
 #pragma once
 // `volcomp eval`: the error, angular error and compensation offset of a model at one point
-// (--at) or for a CSV file of points (--points/--out). Contract: docs/model-file.md, "volcomp eval".
+// (--at) or for a CSV file of points (--points/--out). Contract: docs/model-file.md, "volcomp
+// eval".
 
 #include <iosfwd>
 #include <string>

@@ -1,6 +1,6 @@
-// volcomp-sim: the simulated machine and controller (docs/modbus.md, "volcomp-sim"), served over Modbus
-// TCP/RTU or CAN. See docs/modbus.md and docs/can.md for usage; the report is one JSON line on
-// stdout at the end (and a readable summary on stderr).
+// volcomp-sim: the simulated machine and controller (docs/modbus.md, "volcomp-sim"), served over
+// Modbus TCP/RTU or CAN. See docs/modbus.md and docs/can.md for usage; the report is one JSON line
+// on stdout at the end (and a readable summary on stderr).
 #include <poll.h>
 #include <signal.h>
 #include <unistd.h>

@@ -69,9 +69,9 @@ struct FieldReading {
   const char* name = "";  ///< "position.X", "enable", "offset.Z", "status", ...
   RegisterTable table = RegisterTable::Holding;
   std::uint16_t address = 0;
-  int width = 1;  ///< registers
-  int bit = -1;   ///< the bit of a flag, -1 for values and words
-  ValueFormat format;  ///< for values (width from format.type); words are uint16
+  int width = 1;         ///< registers
+  int bit = -1;          ///< the bit of a flag, -1 for values and words
+  ValueFormat format;    ///< for values (width from format.type); words are uint16
   bool isValue = false;  ///< a typed length (mm); else a flag (bit) or a plain word
   std::array<std::uint16_t, 4> registers{};  ///< the first `width` are the raw registers
   double valueMm = 0.0;                      ///< decoded length (values)

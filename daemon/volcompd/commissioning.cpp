@@ -162,6 +162,7 @@ int runTestOffset(loop::ControllerPort& port, const RawView& raw,
     pacer.wait();
   }
   const loop::AxisSample held = sample;
+  const double heldWrittenMm = run.lastWrittenMm[test.axis];
   const bool reached = atTarget(run, target);
   if (!run.error) {
     out << "written (last write):\n";
@@ -187,14 +188,15 @@ int runTestOffset(loop::ControllerPort& port, const RawView& raw,
     out << "  FAILED: a transaction failed while the offset was applied: " << heldError.message()
         << '\n';
   }
-  out << "  written   " << signedMicrometres(run.lastWrittenMm[test.axis])
-      << " at the end (reached the target: " << (reached ? "yes" : "no") << ")\n";
+  out << "  written   " << signedMicrometres(heldWrittenMm)
+      << " while held (reached the target: " << (reached ? "yes" : "no") << ")\n";
   int status = heldError || !reached ? 1 : 0;
   if (held.hasAppliedOffsets) {
     const double back = held.appliedOffsetMm[test.axis];
     out << "  read back " << signedMicrometres(back) << " (applied_offset." << axis << ")";
     if (readBackAfterS) {
-      out << ", equal to the target " << *readBackAfterS << " s after the start\n";
+      out << ", equal to the target " << config::significant(*readBackAfterS)
+          << " s after the start\n";
     } else {
       out << ": DIFFERENT from the target; ";
       if (std::abs(back + test.offsetMm) < 1e-6 + std::abs(test.offsetMm) * 1e-3) {

@@ -191,11 +191,14 @@ PlausibilityLimits readPlausibility(const JsonReader& node) {
 
 // A polynomial grows without bound outside the range it was fitted on; only the axis' travel
 // bounds where it is evaluated (the model holds every error function at the travel ends).
-void requireBoundedPolynomials(const JsonReader& components, const model::MachineModelSpec& spec) {
+// A calibration template's start value is not evaluated on a machine: identify blocks pass.
+void requireBoundedPolynomials(const JsonReader& components, const model::MachineModelSpec& spec,
+                               const ModelDocument& doc) {
   for (int i = 0; i < 18; ++i) {
     const auto* p = std::get_if<model::PolynomialSpec>(&spec.motion[i]);
     const int axis = i / 6;
     if (p == nullptr || p->coefficients.size() < 2 || spec.travelMm[axis]) continue;
+    if (doc.identify.count(components.childPath(kMotionNames[i])) != 0) continue;
     components.at(kMotionNames[i])
         .fail(std::string("a polynomial needs the travel of axis ") + kAxisNames[axis] +
               " (\"travel\": {\"" + kAxisNames[axis] +
@@ -316,7 +319,7 @@ void parseMachineDocument(const JsonReader& root, const ParseOptions& options, M
   if (const auto limits = root.find("plausibility")) doc.plausibility = readPlausibility(*limits);
   if (const auto components = root.find("components")) {
     readComponents(*components, spec, ctx);
-    requireBoundedPolynomials(*components, spec);
+    requireBoundedPolynomials(*components, spec, doc);
   }
   if (const auto grids = root.find("grids")) {
     for (const JsonReader& grid : grids->elements()) spec.grids.push_back(readGrid(grid, ctx));

@@ -46,8 +46,9 @@ TEST(ModelPlausibility, AcceptsARealisticModelAndReportsItsPeaks) {
   EXPECT_NEAR(assessment->motionPeak[0], 15.6e-3, 1e-12);  // EXX at X = 850
   EXPECT_EQ(assessment->motionPeakAtMm[0], 850.0);
   EXPECT_EQ(assessment->gridPoints[0], kPlausibilityGridPoints);
-  // XYFZ: X is the table, EXX = +15.6 um moves the workpiece: E_x = -15.6 um, o_x ~ +15.6 um.
-  EXPECT_NEAR(assessment->peakOffsetMm[0], 15.6e-3, 1e-5);
+  // XYFZ: X is the table, EXX = +15.6 um moves the workpiece: E_x = -15.6 um; EC0Y = 18.5 urad
+  // adds -y * 18.5 urad: o_x ~ +15.6 + 9.25 um at (850, 500).
+  EXPECT_NEAR(assessment->peakOffsetMm[0], 24.85e-3, 1e-5);
   EXPECT_LT(assessment->peakErrorMm, 0.03);
 }
 
@@ -124,8 +125,7 @@ TEST(ModelPlausibility, RefusesOffsetsBeyondTheLimiter) {
   bound.maxOffsetMm.fill(0.01);
   bound.source = "limiter.max_offset_mm of volcompd.json";
   const std::string message = refusal(docOf(kLaserInUm), bound);
-  expectContains(message, "the model asks for an offset of 15.6");
-  expectContains(message, "on X");
+  expectContains(message, "the model asks for an offset of 24.85 um on X at (850, 500");
   expectContains(message, "beyond 10 um (limiter.max_offset_mm of volcompd.json)");
   bound.maxOffsetMm.fill(0.1);
   EXPECT_EQ(refusal(docOf(kLaserInUm), bound), "");

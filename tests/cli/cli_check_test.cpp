@@ -124,7 +124,8 @@ TEST(CliCheck, OffsetsMustFitMaxOffsetOrTheDaemonsLimiter) {
   expectContains(wide.out, "peak offset   X 15.6");
   expectContains(wide.out, "offsets <= 100 um (--max-offset)");
 
-  const std::string config = dir.write("d.json", R"({"model": "um.json",
+  const std::string config =
+      dir.write("d.json", R"({"model": "um.json", "position_semantics": "commanded",
     "limiter": {"max_offset_mm": 0.012, "max_rate_mm_s": 0.5},
     "transport": {"type": "modbus-tcp", "host": "127.0.0.1", "port": 1502, "registers": {
       "position": {"X": {"address": 0}, "Y": {"address": 2}, "Z": {"address": 4}},

@@ -133,8 +133,8 @@ TEST_P(Commissioning, TestOffsetBeyondTheLimiterIsRefusedBeforeConnecting) {
 INSTANTIATE_TEST_SUITE_P(ExamplePairs, Commissioning,
                          ::testing::Values(Pair{"sim-vmc.json", "volcompd-modbus-tcp.json"},
                                            Pair{"sim-vmc-rtu.json", "volcompd-modbus-rtu.json"}),
-                         [](const auto& info) {
-                           return std::string(info.index == 0 ? "ModbusTcp" : "ModbusRtu");
+                         [](const ::testing::TestParamInfo<Pair>& param) {
+                           return std::string(param.index == 0 ? "ModbusTcp" : "ModbusRtu");
                          });
 
 }  // namespace

@@ -19,6 +19,8 @@ packages=(
   chromium
   # the platform's pacing baseline beside the daemon's latency figures (bench/daemon/run_latency.sh)
   rt-tests
+  # the model format's JSON Schema checked against the examples (tests/config/schema_test.py)
+  python3-jsonschema
   # CAN tests in a QEMU guest (this kernel may have no CAN): emulator, busybox, can-utils
   qemu-system-x86 busybox-static can-utils
   # controller-table tests: LinuxCNC 2.9 (headless, simulated machine; python3 linuxcnc and hal

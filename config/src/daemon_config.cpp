@@ -1,5 +1,6 @@
 #include "volcomp/config/daemon_config.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +10,9 @@
 #include "volcomp/config/transport_limits.hpp"
 
 namespace volcomp::config {
+
+const double kDefaultStopTimeoutS = VOLCOMPD_DEFAULT_STOP_TIMEOUT_S;
+
 namespace {
 
 std::string shortNumber(double v) {
@@ -42,7 +46,48 @@ std::string resolveAgainst(const std::string& file, const std::string& relative)
   return (std::filesystem::path(file).parent_path() / p).lexically_normal().string();
 }
 
+// Bounds that keep a configuration safe to run: an offset band no wider than a machine tool's
+// compensation needs unless the file says so, and a stop that ends before systemd kills it.
+void checkBounds(const JsonReader& root, const DaemonConfig& c) {
+  const JsonReader limiter = root.at("limiter");
+  double largestOffsetMm = 0.0;
+  for (const loop::AxisLimits& a : c.limiter.axes) {
+    largestOffsetMm = std::max(largestOffsetMm, a.maxOffsetMm);
+  }
+  if (largestOffsetMm > kMaxOffsetWithoutOverrideMm &&
+      !limiter.booleanOr("allow_max_offset_above_2mm", false)) {
+    limiter.at("max_offset_mm")
+        .failExpected("at most " + shortNumber(kMaxOffsetWithoutOverrideMm) +
+                      " mm (geometric compensation rarely needs more than tens of um; set "
+                      "\"allow_max_offset_above_2mm\": true in \"limiter\" if this machine "
+                      "really does)");
+  }
+  const double rampS = rampOutSeconds(c.limiter);
+  const double stopS = 2.0 * rampS + 1.0;
+  if (stopS > c.stopTimeoutS) {
+    double slowestRateMmS = c.limiter.axes[0].maxRateMmS;
+    for (const loop::AxisLimits& a : c.limiter.axes) {
+      slowestRateMmS = std::min(slowestRateMmS, a.maxRateMmS);
+    }
+    limiter.fail("the ramp-out takes up to " + shortNumber(rampS) +
+                 " s (max_offset_mm / max_rate_mm_s), and a stop may take 2 x that + 1 s = " +
+                 shortNumber(stopS) + " s, longer than the service's stop timeout of " +
+                 shortNumber(c.stopTimeoutS) +
+                 " s (stop_timeout_s, TimeoutStopSec of the unit): systemd would kill the daemon "
+                 "with offsets applied. Raise max_rate_mm_s to at least " +
+                 shortNumber(2.0 * largestOffsetMm / (c.stopTimeoutS - 1.0)) +
+                 " mm/s, lower max_offset_mm, or raise TimeoutStopSec in a drop-in and "
+                 "stop_timeout_s here");
+  }
+}
+
 }  // namespace
+
+double rampOutSeconds(const loop::LimiterSettings& limiter) noexcept {
+  std::array<double, 3> largestMm{};
+  for (std::size_t k = 0; k < 3; ++k) largestMm[k] = limiter.axes[k].maxOffsetMm;
+  return loop::rampOutSeconds(limiter, largestMm);
+}
 
 DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string& file) {
   const JsonReader root(document, file);
@@ -50,7 +95,8 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
                   "frozen_positions_are_stale", "travel_margin_mm", "direction_hysteresis_mm",
                   "offset_readback", "plc_zero_after_ms", "plc_heartbeat_timeout_ms",
                   "read_to_write_max_ms", "fault_latch", "service_watchdog_ms", "model",
-                  "reconnect", "log_level", "transport"});
+                  "reconnect", "log_level", "stop_timeout_s", "accept_model_beyond_max_offset",
+                  "transport"});
   DaemonConfig c;
   c.file = file;
   if (auto v = root.find("cycle_period_ms")) c.cyclePeriodMs = v->number(1.0, 1000.0);
@@ -60,7 +106,7 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
 
   const JsonReader limiter = root.at("limiter");
   limiter.allowOnly({"max_offset_mm", "max_rate_mm_s", "max_accel_mm_s2", "saturation_warning_ms",
-                     "saturation_fault_ms"});
+                     "saturation_fault_ms", "allow_max_offset_above_2mm"});
   const auto offsets = perAxis(limiter.at("max_offset_mm"),
                                [](const JsonReader& v) { return positiveNumber(v, 100.0); });
   const auto rates = perAxis(limiter.at("max_rate_mm_s"),
@@ -143,6 +189,10 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
   }
 
   if (auto v = root.find("service_watchdog_ms")) c.serviceWatchdogMs = positiveNumber(*v, 3.6e6);
+  if (auto v = root.find("stop_timeout_s")) c.stopTimeoutS = positiveNumber(*v, 3600.0);
+  c.acceptModelBeyondMaxOffset = root.booleanOr("accept_model_beyond_max_offset", false);
+  checkBounds(root, c);
+
   c.transport = parseTransportSettings(root.at("transport").json(), file, "transport");
   checkTransportLimits(c);
   return c;

@@ -153,6 +153,33 @@ ErrorUnits readUnits(const JsonReader& node) {
   return units;
 }
 
+PlausibilityLimits readPlausibility(const JsonReader& node) {
+  node.allowOnly({"max_length_mm", "max_angle_rad"});
+  PlausibilityLimits limits;
+  limits.stated = true;
+  if (const auto v = node.find("max_length_mm")) limits.maxLengthMm = v->number(1e-9, 1000.0);
+  if (const auto v = node.find("max_angle_rad")) limits.maxAngleRad = v->number(1e-12, 1.0);
+  return limits;
+}
+
+// A polynomial grows without bound outside the range it was fitted on; only the axis' travel
+// bounds where it is evaluated (the model holds every error function at the travel ends).
+// A calibration template's start value is not evaluated on a machine: identify blocks pass.
+void requireBoundedPolynomials(const JsonReader& components, const model::MachineModelSpec& spec,
+                               const ModelDocument& doc) {
+  for (int i = 0; i < 18; ++i) {
+    const auto* p = std::get_if<model::PolynomialSpec>(&spec.motion[i]);
+    const int axis = i / 6;
+    if (p == nullptr || p->coefficients.size() < 2 || spec.travelMm[axis]) continue;
+    if (doc.identify.count(components.childPath(kMotionNames[i])) != 0) continue;
+    components.at(kMotionNames[i])
+        .fail(std::string("a polynomial needs the travel of axis ") + kAxisNames[axis] +
+              " (\"travel\": {\"" + kAxisNames[axis] +
+              "\": [min, max]} in mm): without it the polynomial would be extrapolated without "
+              "bound; give the travel it was measured over, or use a table");
+  }
+}
+
 void readComponents(const JsonReader& node, model::MachineModelSpec& spec, const Context& ctx) {
   node.expectObject();
   for (const auto& [name, value] : node.members()) {
@@ -260,7 +287,7 @@ std::vector<double> readIncreasing(const JsonReader& node, std::size_t minCount)
 
 void parseMachineDocument(const JsonReader& root, const ParseOptions& options, ModelDocument& doc) {
   root.allowOnly({"format", "name", "description", "topology", "travel", "tool", "workpiece",
-                  "error_units", "components", "grids", "calibration"});
+                  "error_units", "plausibility", "components", "grids", "calibration"});
   const Context ctx{options, doc};
   model::MachineModelSpec spec;
   spec.name = root.stringOr("name", "");
@@ -270,8 +297,15 @@ void parseMachineDocument(const JsonReader& root, const ParseOptions& options, M
   if (const auto tool = root.find("tool")) spec.toolMm = readVector3(*tool);
   if (const auto workpiece = root.find("workpiece")) spec.workpieceMm = readVector3(*workpiece);
   // Units first: components and grids are scaled by them.
-  if (const auto units = root.find("error_units")) doc.units = readUnits(*units);
-  if (const auto components = root.find("components")) readComponents(*components, spec, ctx);
+  if (const auto units = root.find("error_units")) {
+    doc.units = readUnits(*units);
+    doc.unitsStated = true;
+  }
+  if (const auto limits = root.find("plausibility")) doc.plausibility = readPlausibility(*limits);
+  if (const auto components = root.find("components")) {
+    readComponents(*components, spec, ctx);
+    requireBoundedPolynomials(*components, spec, doc);
+  }
   if (const auto grids = root.find("grids")) {
     for (const JsonReader& grid : grids->elements()) spec.grids.push_back(readGrid(grid, ctx));
   }

@@ -10,6 +10,7 @@
 #include "volcomp/config/calibration_record.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/config/model_plausibility.hpp"
 #include "volcomp/config/transport_limits.hpp"
 
 namespace volcomp::daemon {
@@ -48,12 +49,14 @@ std::optional<std::string> farToolWarning(const config::ModelDocument& document,
 LoadedConfiguration loadConfiguration(const std::string& configPath) {
   LoadedConfiguration loaded;
   loaded.config = config::loadDaemonConfig(configPath);
-  loaded.model = loadCompensationModel(loaded.config.modelPath, &loaded.warnings);
+  loaded.model = loadCompensationModel(loaded.config.modelPath,
+                                       config::offsetBoundOf(loaded.config), &loaded.warnings);
   return loaded;
 }
 
-std::shared_ptr<loop::CompensationModel> loadCompensationModel(const std::string& path,
-                                                               std::vector<std::string>* warnings) {
+std::shared_ptr<loop::CompensationModel> loadCompensationModel(
+    const std::string& path, const std::optional<config::OffsetBound>& bound,
+    std::vector<std::string>* warnings) {
   config::ModelDocument document = config::loadModelFile(path);
   auto* spec = std::get_if<model::MachineModelSpec>(&document.spec);
   if (spec == nullptr) {
@@ -67,8 +70,11 @@ std::shared_ptr<loop::CompensationModel> loadCompensationModel(const std::string
     }
   }
   std::string name = spec->name.empty() ? path : spec->name;
-  return std::make_shared<loop::MachineModelCompensation>(model::MachineModel(std::move(*spec)),
-                                                          std::move(name));
+  model::MachineModel model(std::move(*spec));
+  // At start, --check-config and every reload (which runs this on its helper thread): a refused
+  // model never reaches the loop, and a refused reload keeps the running one.
+  config::requirePlausible(document, config::assessModel(model), bound);
+  return std::make_shared<loop::MachineModelCompensation>(std::move(model), std::move(name));
 }
 
 loop::LoopSettings loopSettingsFrom(const config::DaemonConfig& c) noexcept {

@@ -63,8 +63,9 @@ void Daemon::start() {
   startTime_ = clock_.now();
   lastStatus_ = startTime_;
   spdlog::info(
-      "starting: model '{}', transport {}, cycle {} ms, position semantics {}",
-      loop_.model().name(), config::transportType(config_.transport), config_.cyclePeriodMs,
+      "starting volcompd {}: model '{}', transport {}, cycle {} ms, position semantics {}",
+      VOLCOMP_VERSION, loop_.model().name(), config::transportEndpoint(config_.transport),
+      config_.cyclePeriodMs,
       config_.positionSemantics == loop::PositionSemantics::Actual ? "actual" : "commanded");
   for (const std::string& warning : startWarnings_) spdlog::warn("{}", warning);
   scheduler_.start();
@@ -171,7 +172,8 @@ bool Daemon::cycle() {
     logReport(report);
   } else if (report.state == LoopState::LinkLost && report.error) {
     // At most one per backoff step (100 ms .. 2 s), so not a per-cycle line.
-    spdlog::debug("reconnect failed: {}", report.error.message());
+    spdlog::debug("reconnect to {} failed: {}", config::transportEndpoint(config_.transport),
+                  report.error.message());
   }
   logEvents(report);
   if (report.goodCycle && !ready_) {
@@ -255,8 +257,8 @@ void Daemon::logReport(const CycleReport& report) {
                    error.empty() ? "" : ": ", error, latched);
       break;
     case LoopState::LinkLost:
-      spdlog::warn("{} -> link lost{}{}; reconnecting with backoff", from,
-                   error.empty() ? "" : ": ", error);
+      spdlog::warn("{} -> link lost to {}{}{}; reconnecting with backoff", from,
+                   config::transportEndpoint(config_.transport), error.empty() ? "" : ": ", error);
       break;
     case LoopState::Starting:
       if (report.fault == FaultCode::ReadbackOutOfRange) {

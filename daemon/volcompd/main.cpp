@@ -16,9 +16,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <iostream>
 #include <memory>
 #include <string>
 
+#include "commissioning.hpp"
+#include "environment_check.hpp"
 #include "transports.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/daemon/daemon.hpp"
@@ -51,12 +54,30 @@ void setUpLogging() {
   spdlog::set_default_logger(std::move(logger));
 }
 
+// --probe [--test-offset]: the transport alone; the model is not needed to read a sample or to
+// write a test offset through the limiter.
+int probe(const std::string& configPath, const volcomp::volcompd::ProbeOptions& options) {
+  volcomp::config::DaemonConfig config;
+  try {
+    config = volcomp::config::loadDaemonConfig(configPath);
+    return volcomp::volcompd::runProbe(config, options, std::cout);
+  } catch (const volcomp::config::ConfigError& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  }
+}
+
 int run(const std::string& configPath, bool checkOnly, bool verbose) {
   volcomp::daemon::LoadedConfiguration loaded;
   std::unique_ptr<volcomp::loop::ControllerPort> port;
+  std::string environment;
   try {
     loaded = volcomp::daemon::loadConfiguration(configPath);
     port = volcomp::volcompd::makeControllerPort(loaded.config.transport, loaded.config.file);
+    if (checkOnly) {
+      environment =
+          volcomp::volcompd::checkTransportEnvironment(loaded.config.transport, loaded.config.file);
+    }
   } catch (const volcomp::config::ConfigError& e) {
     spdlog::error("{}", e.what());
     return 2;
@@ -64,8 +85,9 @@ int run(const std::string& configPath, bool checkOnly, bool verbose) {
   spdlog::set_level(verbose ? spdlog::level::debug
                             : spdlog::level::from_str(loaded.config.logLevel));
   if (checkOnly) {
-    spdlog::info("{}: configuration, model '{}' and {} transport are valid", configPath,
-                 loaded.model->name(), volcomp::config::transportType(loaded.config.transport));
+    spdlog::info("{}: configuration, model '{}' and {} transport are valid; {}", configPath,
+                 loaded.model->name(), volcomp::config::transportType(loaded.config.transport),
+                 environment);
     return 0;
   }
 
@@ -110,17 +132,43 @@ int main(int argc, char** argv) {
   std::string configPath;
   bool checkOnly = false;
   bool verbose = false;
+  bool probeOnly = false;
+  std::string testOffset;
+  volcomp::volcompd::ProbeOptions probeOptions;
   app.add_option("-c,--config", configPath, "daemon configuration file (JSON)")->required();
-  app.add_flag("--check-config", checkOnly,
-               "validate the configuration, the model and the transport section, then exit");
+  CLI::Option* check = app.add_flag(
+      "--check-config", checkOnly,
+      "validate the configuration, the model (plausible, within the limiter) and the transport "
+      "(host resolves, device or CAN interface exists), then exit");
+  CLI::Option* probeFlag = app.add_flag(
+      "--probe", probeOnly,
+      "connect, read one consistent sample and print every decoded value with its register or "
+      "signal and raw bytes; writes nothing");
+  probeFlag->excludes(check);
+  app.add_option("--test-offset", testOffset,
+                 "with --probe: write one small offset AXIS:VALUE (e.g. X:5um) through the "
+                 "limiter, read it back, hold it, ramp it out and report (sign check)")
+      ->needs(probeFlag);
+  app.add_option("--hold", probeOptions.holdS, "with --test-offset: seconds to hold the offset")
+      ->check(CLI::Range(0.0, 600.0));
   app.add_flag("-v,--verbose", verbose, "debug logging (overrides log_level)");
+  app.footer(
+      "Exit status: 0 clean stop, good --check-config or --probe; 1 runtime failure (or a "
+      "--test-offset whose read-back disagreed); 2 bad arguments or a bad configuration/model "
+      "file. Commissioning: docs/commissioning.md.");
   try {
     app.parse(argc, argv);
+    if (!testOffset.empty())
+      probeOptions.testOffset = volcomp::volcompd::parseTestOffset(testOffset);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
+  } catch (const std::invalid_argument& e) {
+    spdlog::error("{}", e.what());
+    return 2;
   }
   try {
+    if (probeOnly) return probe(configPath, probeOptions);
     return run(configPath, checkOnly, verbose);
   } catch (const std::exception& e) {
     spdlog::critical("{}", e.what());

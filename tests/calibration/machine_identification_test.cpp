@@ -44,6 +44,8 @@ void expectWithinSigma(const FitResult& fit, const Eigen::VectorXd& truth, int a
 json fxyzTruth() {
   return json{{"format", "volcomp-model/1"},
               {"topology", "FXYZ"},
+              // The synthetic points' box: a polynomial needs the travel it holds over.
+              {"travel", {{"X", {0, 800}}, {"Y", {0, 500}}, {"Z", {-400, 0}}}},
               {"tool", {0, 0, 100}},
               {"error_units", {{"length", "um"}, {"angle", "urad"}}},
               {"components",
@@ -65,8 +67,9 @@ json fxyzTemplate() {
 
 TEST(MachineIdentification, SingleToolLengthCannotSeparatePitchFromStraightnessAndOffset) {
   // With one tool length, EBX = b gives e_x = b (z + 100) (Abbe arm from the X carriage to the
-  // tool tip, spec section 4 worked example), which is exactly EXX c0 = 100 b plus EXZ c1 = b:
-  // the direction (EBX +1, EXZ c1 -1, EXX c0 -100) in raw units leaves every residual unchanged.
+  // tool tip, the worked example of docs/model-file.md), which is exactly EXX c0 = 100 b plus EXZ
+  // c1 = b: the direction (EBX +1, EXZ c1 -1, EXX c0 -100) in raw units leaves every residual
+  // unchanged.
   SyntheticOptions options;
   options.noiseMm = 1e-4;
   const MeasurementSet data = simulate(testing::machineSpec(fxyzTruth()), options);

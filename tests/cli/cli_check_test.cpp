@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "run_cli.hpp"
 
 namespace volcomp::testing {
@@ -91,6 +93,96 @@ TEST(CliCheck, RefusesAModelThatEvaluatesToInfinity) {
   expectContains(run.err, "components.EXX");
   expectContains(run.err, "not finite");
   EXPECT_EQ(run.out.find("inf"), std::string::npos) << run.out;
+}
+
+// The most common mistake when typing laser data: the numbers in um, the file saying mm.
+constexpr const char* kTypedAsMm = R"({"format": "volcomp-model/1", "topology": "XYFZ",
+  "travel": {"X": [0, 850], "Y": [0, 500], "Z": [-500, 0]}, "tool": [0, 0, 120],
+  "error_units": {"length": "mm", "angle": "urad"},
+  "components": {"EXX": {"positions": [0, 425, 850], "values": [0, 8.7, 15.6]}}})";
+constexpr const char* kInUm = R"({"format": "volcomp-model/1", "topology": "XYFZ",
+  "travel": {"X": [0, 850], "Y": [0, 500], "Z": [-500, 0]}, "tool": [0, 0, 120],
+  "error_units": {"length": "um", "angle": "urad"},
+  "components": {"EXX": {"positions": [0, 425, 850], "values": [0, 8.7, 15.6]}}})";
+
+TEST(CliCheck, RefusesMicrometresTypedAsMillimetresInOneLine) {
+  TempDir dir;
+  const CliRun run = runCli(dir, "check " + quoted(dir.write("mm.json", kTypedAsMm)));
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.out, "");
+  EXPECT_EQ(run.errLines(), 1) << run.err;
+  expectContains(run.err, "mm.json: components.EXX");
+  expectContains(run.err, "implausible for a machine tool");
+  expectContains(run.err, "Were values in um entered as mm?");
+}
+
+TEST(CliCheck, RefusesAModelWithoutErrorUnits) {
+  TempDir dir;
+  const CliRun run = runCli(dir, "check " + quoted(dir.write("n.json", R"({"format":
+    "volcomp-model/1", "topology": "FXYZ", "components": {"EXX": 0.002}})")));
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.errLines(), 1) << run.err;
+  expectContains(run.err, "n.json: error_units");
+}
+
+TEST(CliCheck, OffsetsMustFitMaxOffsetOrTheDaemonsLimiter) {
+  TempDir dir;
+  const std::string model = dir.write("um.json", kInUm);
+  const CliRun tight = runCli(dir, "check --max-offset 0.01 " + quoted(model));
+  EXPECT_EQ(tight.status, 2);
+  EXPECT_EQ(tight.errLines(), 1) << tight.err;
+  expectContains(tight.err, "the model asks for an offset of 15.6");
+  expectContains(tight.err, "(--max-offset)");
+  const CliRun wide = runCli(dir, "check --max-offset 0.1 " + quoted(model));
+  ASSERT_EQ(wide.status, 0) << wide.err;
+  expectContains(wide.out, "peak offset   X 15.6");
+  expectContains(wide.out, "offsets <= 100 um (--max-offset)");
+
+  const std::string config =
+      dir.write("d.json", R"({"model": "um.json", "position_semantics": "commanded",
+    "limiter": {"max_offset_mm": 0.012, "max_rate_mm_s": 0.5},
+    "transport": {"type": "modbus-tcp", "host": "127.0.0.1", "port": 1502, "registers": {
+      "position": {"X": {"address": 0}, "Y": {"address": 2}, "Z": {"address": 4}},
+      "enable": {"address": 6, "bit": 0}, "homed": {"address": 6, "bit": 1},
+      "offset": {"X": {"address": 14}, "Y": {"address": 16}, "Z": {"address": 18}},
+      "status": 20, "heartbeat": 21}}})");
+  const CliRun limiter = runCli(dir, "check --config " + quoted(config) + " " + quoted(model));
+  EXPECT_EQ(limiter.status, 2);
+  expectContains(limiter.err, "limiter.max_offset_mm of " + config);
+}
+
+TEST(CliCheck, PrintsEachAxisSideAndTheReadableAssessment) {
+  TempDir dir;
+  const CliRun run = runCli(dir, "check " + quoted(dir.write("um.json", kInUm)));
+  ASSERT_EQ(run.status, 0) << run.err;
+  expectContains(run.out,
+                 "sides       X workpiece side (moves the workpiece): its motion errors "
+                 "= -(reading of the tool relative to the workpiece)");
+  expectContains(run.out,
+                 "            Z tool side (moves the tool): its motion errors = "
+                 "+(reading of the tool relative to the workpiece)");
+  expectContains(run.out, "squareness and grids = +reading on either side");
+  expectContains(run.out, "plausible   over 21 x 21 x 21 points of X [0, 850]");
+  expectContains(run.out, "peak |E|      15.6 um");
+  expectContains(run.out,
+                 "limits        values and |E| <= 1000 um, angles <= 10000 urad (defaults)");
+  const CliRun arcsec =
+      runCli(dir, "check --angle-unit arcsec " + quoted((dir.path() / "um.json").string()));
+  ASSERT_EQ(arcsec.status, 0) << arcsec.err;
+  expectContains(arcsec.out, "angles <= 2063 arcsec (defaults)");
+}
+
+TEST(CliCheck, PrintsTheSchemaOfTheFormat) {
+  TempDir dir;
+  const CliRun run = runCli(dir, "check --schema");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto schema = nlohmann::json::parse(run.out);
+  EXPECT_EQ(schema["title"], "volcomp model file (volcomp-model/1)");
+  EXPECT_EQ(schema["$defs"]["machine"]["required"],
+            nlohmann::json::parse(R"(["format", "topology", "error_units"])"));
+  const CliRun none = runCli(dir, "check");
+  EXPECT_EQ(none.status, 2);
+  expectContains(none.err, "a model file is required");
 }
 
 }  // namespace

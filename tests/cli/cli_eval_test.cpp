@@ -1,5 +1,5 @@
-// `volcomp eval --at ... --json` against the worked examples of shared/spec/model.md section 4,
-// tool override, directions, travel warnings, D-H chains and non-convergence.
+// `volcomp eval --at ... --json` against the worked examples of docs/model-file.md ("What the model
+// computes"), tool override, directions, travel warnings, D-H chains and non-convergence.
 
 #include <gtest/gtest.h>
 
@@ -147,9 +147,9 @@ TEST(CliEval, ReadableTableWithoutJson) {
   const CliRun run = runCli(dir, "eval " + quoted(model) + " --at 1,2,3");
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("gantry (FXYZ)"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("error          0.25, 0, 0  mm"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("offset         -0.25, 0, 0  mm (converged"), std::string::npos)
-      << run.out;
+  // On screen in um to 4 significant digits (EXX = 0.25 mm).
+  EXPECT_NE(run.out.find("error          250, 0, 0  um"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("offset         -250, 0, 0  um (converged"), std::string::npos) << run.out;
 }
 
 TEST(CliEval, DhChain) {

@@ -1,5 +1,5 @@
 // One test per class of rejection: each checks that the message names the file, the key path
-// and what was expected (shared/spec/model.md section 7).
+// and what was expected (docs/model-file.md, "The whole file").
 
 #include <gtest/gtest.h>
 

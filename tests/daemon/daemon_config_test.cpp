@@ -299,7 +299,7 @@ TEST(DaemonConfig, AModelToolFarFromTheCalibratedToolsIsAWarning) {
   const auto load = [&](const json& m) {
     std::vector<std::string> warnings;
     const auto compensation =
-        daemon::loadCompensationModel(dir.write("m.json", m.dump()), &warnings);
+        daemon::loadCompensationModel(dir.write("m.json", m.dump()), std::nullopt, &warnings);
     EXPECT_NE(compensation, nullptr);
     return warnings;
   };

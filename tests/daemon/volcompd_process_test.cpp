@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -173,6 +174,120 @@ TEST_F(VolcompdProcess, InterruptStopsWithStatus0) {
   testutil::Subprocess child = run({});
   ASSERT_TRUE(child.waitForOutput("link lost", 20s)) << child.output();
   child.signal(SIGINT);
+  EXPECT_EQ(child.waitExit(20s), 0) << child.output();
+}
+
+// The model of the example machine with its positioning error in um but "length": "mm": 1000
+// times too large. --check-config refuses it in one line, before it ever reaches a machine.
+constexpr const char* kTypedAsMm = R"({"format": "volcomp-model/1", "topology": "XYFZ",
+  "travel": {"X": [0, 850], "Y": [0, 500], "Z": [-500, 0]}, "tool": [0, 0, 120],
+  "error_units": {"length": "mm", "angle": "urad"},
+  "components": {"EXX": {"positions": [0, 425, 850], "values": [0, 8.7, 15.6]}}})";
+
+TEST_F(VolcompdProcess, CheckConfigRefusesMicrometresTypedAsMillimetres) {
+  config_["model"] = dir_.write("mm.json", kTypedAsMm);
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess child = run({"--check-config"});
+  EXPECT_EQ(child.waitExit(20s), 2);
+  const std::string out = child.output();
+  EXPECT_NE(out.find("mm.json: components.EXX"), std::string::npos) << out;
+  EXPECT_NE(out.find("Were values in um entered as mm?"), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+}
+
+TEST_F(VolcompdProcess, CheckConfigRefusesAModelWhoseOffsetsExceedTheLimiter) {
+  config_["limiter"]["max_offset_mm"] = 0.01;
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess child = run({"--check-config"});
+  EXPECT_EQ(child.waitExit(20s), 2);
+  EXPECT_NE(child.output().find("the model asks for an offset of"), std::string::npos)
+      << child.output();
+  EXPECT_NE(child.output().find("limiter.max_offset_mm of"), std::string::npos) << child.output();
+}
+
+TEST_F(VolcompdProcess, CheckConfigRefusesAHostThatDoesNotResolve) {
+  config_["transport"]["host"] = "no-such-controller.invalid";
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess child = run({"--check-config"});
+  EXPECT_EQ(child.waitExit(20s), 2);
+  EXPECT_NE(child.output().find("transport.host: \"no-such-controller.invalid\" does not resolve"),
+            std::string::npos)
+      << child.output();
+}
+
+TEST_F(VolcompdProcess, CheckConfigSaysHowToCreateAMissingCanInterface) {
+  nlohmann::json can = nlohmann::json::parse(
+      std::ifstream(std::string(VOLCOMP_EXAMPLES_DIR) + "/volcompd-can.json"));
+  can["model"] = config_["model"];
+  can["transport"]["dbc"] = std::string(VOLCOMP_EXAMPLES_DIR) + "/vmc-can.dbc";
+  can["transport"]["interface"] = "vcan97";
+  dir_.write("volcompd.json", can.dump());
+  testutil::Subprocess child = run({"--check-config"});
+  EXPECT_EQ(child.waitExit(20s), 2);
+  const std::string out = child.output();
+  EXPECT_NE(out.find("the CAN interface vcan97 does not exist"), std::string::npos) << out;
+  EXPECT_NE(out.find("sudo ip link add dev vcan97 type vcan"), std::string::npos) << out;
+}
+
+TEST_F(VolcompdProcess, CheckConfigReportsWhatItFound) {
+  testutil::Subprocess child = run({"--check-config"});
+  EXPECT_EQ(child.waitExit(20s), 0) << child.output();
+  EXPECT_NE(child.output().find("host 127.0.0.1 resolves to 127.0.0.1"), std::string::npos)
+      << child.output();
+}
+
+TEST_F(VolcompdProcess, MaxOffsetAbove2mmNeedsAnExplicitOverride) {
+  config_["limiter"]["max_offset_mm"] = 3.0;
+  config_["limiter"]["max_rate_mm_s"] = 2.0;
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess refused = run({"--check-config"});
+  EXPECT_EQ(refused.waitExit(20s), 2);
+  EXPECT_NE(refused.output().find("limiter.max_offset_mm"), std::string::npos) << refused.output();
+  EXPECT_NE(refused.output().find("allow_max_offset_above_2mm"), std::string::npos)
+      << refused.output();
+  config_["limiter"]["allow_max_offset_above_2mm"] = true;
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess accepted = run({"--check-config"});
+  EXPECT_EQ(accepted.waitExit(20s), 0) << accepted.output();
+}
+
+TEST_F(VolcompdProcess, TheRampOutMustFitTheUnitsStopTimeout) {
+  // 0.1 mm at 0.01 mm/s: a 10 s ramp-out, a stop of up to 21 s, beyond TimeoutStopSec=15s.
+  config_["limiter"]["max_rate_mm_s"] = 0.01;
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess refused = run({"--check-config"});
+  EXPECT_EQ(refused.waitExit(20s), 2);
+  const std::string out = refused.output();
+  EXPECT_NE(out.find("limiter: the ramp-out takes up to 10 s"), std::string::npos) << out;
+  EXPECT_NE(out.find("TimeoutStopSec"), std::string::npos) << out;
+  config_["stop_timeout_s"] = 30;
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess accepted = run({"--check-config"});
+  EXPECT_EQ(accepted.waitExit(20s), 0) << accepted.output();
+}
+
+TEST_F(VolcompdProcess, PrintsItsVersion) {
+  testutil::Subprocess child = testutil::Subprocess({VOLCOMPD_PATH, "--version"}, "");
+  EXPECT_EQ(child.waitExit(20s), 0);
+  EXPECT_EQ(child.output(), std::string("volcompd ") + VOLCOMP_VERSION + "\n");
+}
+
+// A reload runs the same check: an implausible model is rejected and the running one stays.
+TEST_F(VolcompdProcess, ReloadRejectsAnImplausibleModel) {
+  testutil::Subprocess child = run({});
+  ASSERT_TRUE(child.waitForOutput("link lost", 20s)) << child.output();
+  EXPECT_NE(child.output().find("starting volcompd " + std::string(VOLCOMP_VERSION)),
+            std::string::npos)
+      << child.output();
+  EXPECT_NE(child.output().find("link lost to modbus-tcp 127.0.0.1:"), std::string::npos)
+      << child.output();
+  config_["model"] = dir_.write("mm.json", kTypedAsMm);
+  dir_.write("volcompd.json", config_.dump());
+  child.signal(SIGHUP);
+  ASSERT_TRUE(child.waitForOutput("reload rejected", 20s)) << child.output();
+  EXPECT_NE(child.output().find("Were values in um entered as mm?"), std::string::npos)
+      << child.output();
+  child.signal(SIGTERM);
   EXPECT_EQ(child.waitExit(20s), 0) << child.output();
 }
 

@@ -1,5 +1,5 @@
-// DhChain (spec section 8): conventions against hand-computed matrices, deviations, joint
-// variables, validation and allocation-free evaluation.
+// DhChain (docs/model-file.md, "Denavit-Hartenberg chains"): conventions against hand-computed
+// matrices, deviations, joint variables, validation and allocation-free evaluation.
 
 #include <gtest/gtest.h>
 

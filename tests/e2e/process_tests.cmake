@@ -8,7 +8,8 @@ add_executable(volcomp_e2e_process_tests
   hostile_conditions_e2e_test.cpp
   latch_saturation_e2e_test.cpp
   lifecycle_e2e_test.cpp
-  hostile_e2e_test.cpp)
+  hostile_e2e_test.cpp
+  commissioning_e2e_test.cpp)
 target_link_libraries(volcomp_e2e_process_tests PRIVATE nlohmann_json::nlohmann_json
                       volcomp_testutil volcomp_warnings)
 target_compile_definitions(volcomp_e2e_process_tests PRIVATE

@@ -35,6 +35,9 @@ class Safety : public ProcessTest {
     json d = daemonConfig(at, model_);
     d["limiter"]["max_offset_mm"] = maxOffsetMm_;
     d["limiter"]["max_rate_mm_s"] = maxRateMmS_;
+    // These tests drive the limiter with models that ask for more than max_offset on purpose;
+    // without this the daemon refuses such a model before it starts.
+    d["accept_model_beyond_max_offset"] = true;
     return d;
   }
 

@@ -50,7 +50,9 @@ expected=(
   /usr/share/doc/volcomp/examples/linuxcnc/volcomp.ini
   /usr/share/doc/volcomp/examples/linuxcnc/volcomp.hal
   /usr/share/doc/volcomp/README.md /usr/share/doc/volcomp/docs/daemon.md
-  /usr/share/doc/volcomp/docs/model.md
+  /usr/share/doc/volcomp/docs/model.md /usr/share/doc/volcomp/docs/model-file.md
+  /usr/share/doc/volcomp/docs/commissioning.md
+  /usr/share/volcomp/volcomp-model-1.schema.json
   /usr/share/doc/volcomp/examples/README.md
   /usr/share/doc/volcomp/examples/volcompd-modbus-tcp.json
   /usr/share/doc/volcomp/examples/volcompd-modbus-rtu.json
@@ -64,7 +66,7 @@ for file in "${expected[@]}"; do
   grep -qxF "$file" "$work/files" || fail "missing $file"
 done
 # Nothing else: no headers, static libraries, /usr/local or /etc files.
-unexpected="$(grep -vE '^/usr/(bin/volcomp(-sim)?|sbin/volcompd|lib/systemd/system/volcompd\.service|share/doc/volcomp/.+|share/man/man[18]/volcomp(d|-sim)?\.[18]\.gz)$' "$work/files" || true)"
+unexpected="$(grep -vE '^/usr/(bin/volcomp(-sim)?|sbin/volcompd|lib/systemd/system/volcompd\.service|share/doc/volcomp/.+|share/volcomp/volcomp-model-1\.schema\.json|share/man/man[18]/volcomp(d|-sim)?\.[18]\.gz)$' "$work/files" || true)"
 [ -z "$unexpected" ] || fail "unexpected files: $unexpected"
 
 echo "== unpack into a scratch root (dpkg -x)"

@@ -8,7 +8,11 @@
 #include <variant>
 
 #include "cli_support.hpp"
+#include "model_schema.hpp"
+#include "volcomp/config/daemon_config.hpp"
+#include "volcomp/config/display_units.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/config/model_plausibility.hpp"
 #include "volcomp/model/dh_chain.hpp"
 #include "volcomp/model/machine_model.hpp"
 
@@ -66,7 +70,8 @@ void describeMotion(std::ostream& out, const model::MachineModelSpec& spec, int 
               formatDouble(peak / factor) + " " + unit + " (sampled at " +
               std::to_string(kPolynomialSamples) + " points)";
     } else {
-      line += ", peak |value| unbounded (no travel given for this axis)";
+      // The file reader refuses a polynomial of degree >= 1 without the travel.
+      line += ", a constant";
     }
   } else {
     const auto& t = std::get<model::TableSpec>(f);
@@ -85,11 +90,57 @@ void describeMotion(std::ostream& out, const model::MachineModelSpec& spec, int 
   out << line << '\n';
 }
 
+// Which side of the frame each axis is on decides the sign of what a user types in: an
+// instrument reads the tool relative to the workpiece, a motion error moves the axis' carriage.
+void describeSides(std::ostream& out, const model::MachineModelSpec& spec) {
+  const model::Topology topology = model::Topology::parse(spec.topology);
+  for (int axis = 0; axis < 3; ++axis) {
+    const bool workpiece = topology.isWorkpieceSide(static_cast<model::Axis>(axis));
+    out << (axis == 0 ? "sides       " : "            ") << "XYZ"[axis]
+        << (workpiece ? " workpiece side (moves the workpiece): its motion errors = -(reading of "
+                        "the tool relative to the workpiece)\n"
+                      : " tool side (moves the tool): its motion errors = +(reading of the tool "
+                        "relative to the workpiece)\n");
+  }
+  out << "            squareness and grids = +reading on either side (laser, straightedge, "
+         "ball-bar: docs/model-file.md, \"Entering measured data\")\n";
+}
+
+void describeAssessment(std::ostream& out, const config::ModelAssessment& a,
+                        const config::ModelDocument& doc,
+                        const std::optional<config::OffsetBound>& bound,
+                        config::AngleDisplay angles) {
+  out << "plausible   over " << a.gridPoints[0] << " x " << a.gridPoints[1] << " x "
+      << a.gridPoints[2] << " points of";
+  for (int axis = 0; axis < 3; ++axis) {
+    out << ' ' << "XYZ"[axis] << ' ' << range(a.rangeMm[axis][0], a.rangeMm[axis][1])
+        << (a.rangeIsTravel[axis] ? "" : " (no travel: the span of its tables and grids)");
+  }
+  out << " mm, both directions\n"
+      << "  peak |E|      " << config::micrometres(a.peakErrorMm) << " at ("
+      << config::significant(a.peakErrorAtMm.x()) << ", "
+      << config::significant(a.peakErrorAtMm.y()) << ", "
+      << config::significant(a.peakErrorAtMm.z()) << ") mm\n"
+      << "  peak angle    " << config::angle(a.peakAngleRad, angles) << '\n'
+      << "  peak offset   X " << config::micrometres(a.peakOffsetMm[0]) << ", Y "
+      << config::micrometres(a.peakOffsetMm[1]) << ", Z " << config::micrometres(a.peakOffsetMm[2])
+      << '\n'
+      << "  limits        values and |E| <= " << config::micrometres(doc.plausibility.maxLengthMm)
+      << ", angles <= " << config::angle(doc.plausibility.maxAngleRad, angles)
+      << (doc.plausibility.stated ? " (the file's)" : " (defaults)");
+  if (bound) {
+    out << "; offsets <= " << config::micrometres(bound->maxOffsetMm[0]) << " (" << bound->source
+        << ")";
+  }
+  out << '\n';
+}
+
 void describeMachine(std::ostream& out, const model::MachineModelSpec& spec,
                      const config::ModelDocument& doc) {
   out << "name        " << (spec.name.empty() ? std::string("(unnamed)") : spec.name) << '\n'
-      << "topology    " << spec.topology << '\n'
-      << "travel      ";
+      << "topology    " << spec.topology << '\n';
+  describeSides(out, spec);
+  out << "travel      ";
   for (int axis = 0; axis < 3; ++axis) {
     out << "XYZ"[axis] << ' '
         << (spec.travelMm[axis] ? range((*spec.travelMm[axis])[0], (*spec.travelMm[axis])[1])
@@ -186,23 +237,62 @@ CLI::App* addCheckVerb(CLI::App& app, CheckOptions& options) {
       "Validate a model file and summarise it: topology or D-H chain, travel, tool, "
       "units, each component with its kind, range and peak |value| (in the file's "
       "units), grids with shape and peak.");
-  verb->add_option("model", options.modelPath, "Model file (volcomp-model/1 JSON)")->required();
+  CLI::Option* schema = verb->add_flag(
+      "--schema", options.printSchema,
+      "Print the JSON Schema of the model format (config/schema/volcomp-model-1.schema.json, "
+      "for editors; volcomp's reader is the authority) and exit");
+  verb->add_option("model", options.modelPath, "Model file (volcomp-model/1 JSON)")
+      ->excludes(schema);
   verb->add_flag("--template", options.calibrationTemplate,
                  "Accept a calibration template (\"identify\" blocks) and list what it identifies");
+  CLI::Option* config = verb->add_option("--config", options.daemonConfig,
+                                         "volcompd configuration: the model's offsets must fit its "
+                                         "limiter.max_offset_mm");
+  verb->add_option("--max-offset", options.maxOffsetMm,
+                   "The model's offsets must fit this limit (mm), as the daemon's limiter")
+      ->check(CLI::PositiveNumber)
+      ->excludes(config);
+  verb->add_option("--angle-unit", options.angleUnit, "Angles on screen: urad (default) or arcsec")
+      ->check(CLI::IsMember({"urad", "arcsec"}));
   verb->footer(
+      "A 3-axis model is evaluated over a grid of its travel and refused when it has no "
+      "error_units, when a value or the volumetric error is implausible for a machine tool "
+      "(|value| > 1 mm, angles > 0.01 rad unless the file's \"plausibility\" says otherwise), "
+      "when it is NaN or infinite anywhere, or when an offset exceeds --max-offset or the "
+      "limiter of --config.\n"
       "Exit status: 0 valid; 2 invalid (one line on stderr: file, key path, expectation).");
   return verb;
 }
 
 int runCheck(const CheckOptions& options, std::ostream& out) {
+  if (options.printSchema) {
+    out << kModelSchema;
+    return kExitOk;
+  }
+  if (options.modelPath.empty()) throw UsageError("check: a model file is required (or --schema)");
   config::ParseOptions parse;
   parse.allowIdentify = options.calibrationTemplate;
   const config::ModelDocument doc = config::loadModelFile(options.modelPath, parse);
+  std::optional<config::OffsetBound> bound;
+  if (!options.daemonConfig.empty()) {
+    bound = config::offsetBoundOf(config::loadDaemonConfig(options.daemonConfig));
+  } else if (options.maxOffsetMm > 0.0) {
+    bound = config::OffsetBound{};
+    bound->maxOffsetMm.fill(options.maxOffsetMm);
+    bound->source = "--max-offset";
+  }
+  // Templates hold start values, not a machine: they are not assessed.
+  std::optional<config::ModelAssessment> assessment;
+  if (!options.calibrationTemplate) assessment = config::checkPlausible(doc, bound);
   out << "file        " << options.modelPath << ": valid volcomp-model/1\n";
   if (const auto* chain = std::get_if<model::DhChainSpec>(&doc.spec)) {
     describeChain(out, *chain);
   } else {
     describeMachine(out, std::get<model::MachineModelSpec>(doc.spec), doc);
+    if (assessment) {
+      describeAssessment(out, *assessment, doc, bound,
+                         config::angleDisplayFromName(options.angleUnit));
+    }
   }
   if (options.calibrationTemplate) {
     out << "identify    " << doc.identify.size() << " block(s)\n";

@@ -12,6 +12,7 @@
 
 #include "cli_support.hpp"
 #include "eval_points.hpp"
+#include "volcomp/config/display_units.hpp"
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/model/dh_chain.hpp"
 #include "volcomp/model/machine_model.hpp"
@@ -42,6 +43,18 @@ OrderedJson jsonMatrix(const Eigen::Matrix4d& m) {
 std::string triple(const Eigen::Vector3d& v) {
   return formatDouble(tidy(v.x())) + ", " + formatDouble(tidy(v.y())) + ", " +
          formatDouble(tidy(v.z()));
+}
+
+// Results on screen: um and urad (or arcsec) to 4 significant digits; --json keeps mm and rad.
+std::string lengthTriple(const Eigen::Vector3d& mm) {
+  return config::significant(mm.x() * 1e3) + ", " + config::significant(mm.y() * 1e3) + ", " +
+         config::significant(mm.z() * 1e3) + "  um";
+}
+
+std::string angleTriple(const Eigen::Vector3d& rad, const std::string& unit) {
+  const double factor = unit == "arcsec" ? 648000.0 / std::numbers::pi : 1e6;
+  return config::significant(rad.x() * factor) + ", " + config::significant(rad.y() * factor) +
+         ", " + config::significant(rad.z() * factor) + "  " + unit;
 }
 
 // Rows of shortest round-trip numbers, right-aligned in columns.
@@ -126,8 +139,8 @@ int evalChain(const EvalOptions& options, const model::DhChainSpec& spec, std::o
   out << "chain          " << (spec.name.empty() ? std::string("(unnamed)") : spec.name) << ", "
       << spec.links.size() << " links, " << chain.jointCount() << " joints\n"
       << "joints         " << joined << "  (mm prismatic, deg revolute)\n"
-      << "error          " << triple(r.errorMm) << "  mm\n"
-      << "angular error  " << triple(r.angularErrorRad) << "  rad\n"
+      << "error          " << lengthTriple(r.errorMm) << '\n'
+      << "angular error  " << angleTriple(r.angularErrorRad, options.angleUnit) << '\n'
       << "T_nominal\n"
       << matrixText(r.tNominal) << "T_actual\n"
       << matrixText(r.tActual);
@@ -158,9 +171,9 @@ int evalPoint(const EvalOptions& options, const model::MachineModel& model,
         << spec.topology << ")\n"
         << "position       " << triple(qMm) << "  mm\n"
         << "tool           " << triple(spec.toolMm) << "  mm\n"
-        << "error          " << triple(e.errorMm) << "  mm\n"
-        << "angular error  " << triple(e.angularErrorRad) << "  rad\n"
-        << "offset         " << triple(o.offsetMm) << "  mm ("
+        << "error          " << lengthTriple(e.errorMm) << '\n'
+        << "angular error  " << angleTriple(e.angularErrorRad, options.angleUnit) << '\n'
+        << "offset         " << lengthTriple(o.offsetMm) << " ("
         << (o.converged ? "converged" : "NOT converged") << " in " << o.iterations
         << " iterations, residual " << formatDouble(o.residualMm) << " mm)\n";
   }
@@ -229,7 +242,12 @@ CLI::App* addEvalVerb(CLI::App& app, EvalOptions& options) {
   verb->add_flag("--json", options.json,
                  "Print one JSON object {position, error, angular_error, offset} (D-H chains: "
                  "{position, error, angular_error, T_nominal, T_actual})");
+  verb->add_option("--angle-unit", options.angleUnit,
+                   "Angles on screen: urad (default) or arcsec (--json and CSV: rad)")
+      ->check(CLI::IsMember({"urad", "arcsec"}));
   verb->footer(
+      "On screen lengths are in um and angles in urad (or arcsec) to 4 significant digits; "
+      "--json and the CSV of --points keep mm and rad at full precision.\n"
       "Exit status: 0 success; 2 bad arguments or bad file (one line on stderr); 3 results "
       "printed but a compensation offset did not converge. Points outside the travel are "
       "evaluated at the nearest end of the travel, with a warning on stderr.");

@@ -1,6 +1,7 @@
 #pragma once
 // `volcomp eval`: the error, angular error and compensation offset of a model at one point
-// (--at) or for a CSV file of points (--points/--out). Contract: shared/spec/model.md section 9.
+// (--at) or for a CSV file of points (--points/--out). Contract: docs/model-file.md, "volcomp
+// eval".
 
 #include <iosfwd>
 #include <string>
@@ -18,6 +19,7 @@ struct EvalOptions {
   std::string out;
   std::string mode = "exact";
   bool json = false;
+  std::string angleUnit = "urad";  ///< on screen: urad or arcsec (JSON and CSV: rad)
 };
 
 /// Registers the verb and its options (bound to `options`) on `app`.

@@ -149,4 +149,67 @@ std::error_code decodeOutputs(const RegisterMap& m, ConstTableView holding,
   return result;
 }
 
+namespace {
+
+void copyRegisters(std::span<const std::uint16_t> regs, FieldReading& r) noexcept {
+  for (std::size_t i = 0; i < regs.size() && i < r.registers.size(); ++i) r.registers[i] = regs[i];
+}
+
+void addValue(FieldReadings& out, const char* name, const ValueRegister& v, ConstTableView holding,
+              ConstTableView input) noexcept {
+  FieldReading& r = out.fields[out.count++];
+  r.name = name;
+  r.table = v.table;
+  r.address = v.address;
+  r.width = registerWidth(v.format.type);
+  r.format = v.format;
+  r.isValue = true;
+  const auto regs = at(pick(v.table, holding, input), v.address, r.width);
+  copyRegisters(regs, r);
+  r.status = decode(regs, v.format, r.valueMm);
+}
+
+void addWord(FieldReadings& out, const char* name, RegisterTable table, std::uint16_t address,
+             int bit, ConstTableView holding, ConstTableView input) noexcept {
+  FieldReading& r = out.fields[out.count++];
+  r.name = name;
+  r.table = table;
+  r.address = address;
+  r.bit = bit;
+  r.format.type = RegisterType::Uint16;
+  const auto regs = at(pick(table, holding, input), address, 1);
+  copyRegisters(regs, r);
+  r.word = bit >= 0 ? (regs[0] >> bit) & 1U : regs[0];
+}
+
+}  // namespace
+
+FieldReadings describeInputs(const RegisterMap& m, ConstTableView holding,
+                             ConstTableView input) noexcept {
+  static constexpr const char* kPosition[] = {"position.X", "position.Y", "position.Z"};
+  static constexpr const char* kApplied[] = {"applied_offset.X", "applied_offset.Y",
+                                             "applied_offset.Z"};
+  FieldReadings out;
+  for (std::size_t i = 0; i < 3; ++i) addValue(out, kPosition[i], m.position[i], holding, input);
+  addWord(out, "enable", m.enable.table, m.enable.address, m.enable.bit, holding, input);
+  addWord(out, "homed", m.homed.table, m.homed.address, m.homed.bit, holding, input);
+  if (m.sequence) {
+    addWord(out, "sequence", m.sequence->table, m.sequence->address, -1, holding, input);
+  }
+  if (m.appliedOffset) {
+    for (std::size_t i = 0; i < 3; ++i)
+      addValue(out, kApplied[i], (*m.appliedOffset)[i], holding, input);
+  }
+  return out;
+}
+
+FieldReadings describeOutputs(const RegisterMap& m, ConstTableView holding) noexcept {
+  static constexpr const char* kOffset[] = {"offset.X", "offset.Y", "offset.Z"};
+  FieldReadings out;
+  for (std::size_t i = 0; i < 3; ++i) addValue(out, kOffset[i], m.offset[i], holding, holding);
+  addWord(out, "status", RegisterTable::Holding, m.statusAddress, -1, holding, holding);
+  addWord(out, "heartbeat", RegisterTable::Holding, m.heartbeatAddress, -1, holding, holding);
+  return out;
+}
+
 }  // namespace volcomp::modbus

@@ -1,6 +1,6 @@
-// volcomp-sim: the simulated machine and controller (daemon spec section 6), served over Modbus
-// TCP/RTU or CAN. See docs/modbus.md and docs/can.md for usage; the report is one JSON line on
-// stdout at the end.
+// volcomp-sim: the simulated machine and controller (docs/modbus.md, "volcomp-sim"), served over
+// Modbus TCP/RTU or CAN. See docs/modbus.md and docs/can.md for usage; the report is one JSON line
+// on stdout at the end (and a readable summary on stderr).
 #include <poll.h>
 #include <signal.h>
 #include <unistd.h>
@@ -21,6 +21,7 @@
 #include <CLI/CLI.hpp>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/display_units.hpp"
 #include "volcomp/sim/can_server.hpp"
 #include "volcomp/sim/commands.hpp"
 #include "volcomp/sim/machine.hpp"
@@ -109,6 +110,32 @@ bool pathInsideTravel(const volcomp::sim::Path& path, const volcomp::sim::Travel
     }
   }
   return true;
+}
+
+// The report for people, on stderr: um to 4 significant digits (stdout keeps the JSON line with
+// full precision for programs).
+void printSummary(const nlohmann::json& r) {
+  const auto um = [](const nlohmann::json& v) {
+    return v.is_number() ? volcomp::config::significant(v.get<double>()) : std::string("-");
+  };
+  std::cerr << "volcomp-sim: summary over " << um(r.value("duration_s", 0.0)) << " s, "
+            << r.value("samples", 0) << " samples of the tool-tip error (um)\n"
+            << "              RMS before   RMS after  max before   max after\n";
+  const auto row = [&](const std::string& name, const nlohmann::json& v) {
+    char line[160];
+    std::snprintf(line, sizeof line, "  %-6s %14s %11s %11s %11s\n", name.c_str(),
+                  um(v["rms_uncompensated_um"]).c_str(), um(v["rms_compensated_um"]).c_str(),
+                  um(v["max_uncompensated_um"]).c_str(), um(v["max_compensated_um"]).c_str());
+    std::cerr << line;
+  };
+  if (r.contains("axes")) {
+    for (const char* axis : {"X", "Y", "Z"}) {
+      if (r["axes"].contains(axis)) row(axis, r["axes"][axis]);
+    }
+  }
+  row("|e|", r);
+  std::cerr << "  writes " << r.value("writes", 0) << ", limiter violations "
+            << r.value("limiter_violations", 0) << '\n';
 }
 
 }  // namespace
@@ -300,5 +327,6 @@ int main(int argc, char** argv) {
   nlohmann::json report = machine->report(end);
   if (canServer) report["can"] = canServer->counters();
   std::cout << report.dump() << std::endl;
+  printSummary(report);
   return status;
 }

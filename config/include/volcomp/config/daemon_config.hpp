@@ -7,13 +7,17 @@
 ///   {
 ///     "cycle_period_ms": 10,                 period of the cycle, ms, in [1, 1000]
 ///   * "position_semantics": "commanded" | "actual",
-///   * "limiter": {"max_offset_mm": 0.5,      clamp band, mm, in (0, 100]
+///   * "limiter": {"max_offset_mm": 0.5,      clamp band, mm, in (0, 2] (up to 100 with
+///                                            "allow_max_offset_above_2mm": true)
 ///                 "max_rate_mm_s": 1.0,      slew limit, mm/s, in (0, 1000]
 ///                 "max_accel_mm_s2": 0,      optional acceleration limit, mm/s^2, 0 = none
 ///                                            (each of the three: a number for every axis, or
 ///                                            {"X": .., "Y": .., "Z": ..})
 ///                 "saturation_warning_ms": 1000,  clamp held this long: SATURATED + a warning
 ///                 "saturation_fault_ms": 10000},  ... this long: fault sustained-limit (0 = off)
+///     "stop_timeout_s": 15,                  the unit's TimeoutStopSec: the ramp-out must fit
+///     "accept_model_beyond_max_offset": false,  a model whose offsets exceed max_offset_mm is
+///                                            refused unless this is true
 ///     "stale_timeout_ms": 500,               > cycle_period_ms
 ///     "frozen_positions_are_stale": false,   also treat unchanged positions as stale input
 ///     "travel_margin_mm": 1.0,               >= 0
@@ -47,6 +51,11 @@
 
 namespace volcomp::config {
 
+/// TimeoutStopSec of the installed systemd unit.
+extern const double kDefaultStopTimeoutS;
+/// Largest max_offset_mm without "allow_max_offset_above_2mm": true.
+inline constexpr double kMaxOffsetWithoutOverrideMm = 2.0;
+
 struct ReconnectConfig {
   double initialMs = 100.0;
   double maxMs = 2000.0;
@@ -72,12 +81,23 @@ struct DaemonConfig {
   /// compares with this default); a cycle may
   /// block on its transactions for at most half of it (config/transport_limits.hpp).
   double serviceWatchdogMs = 2000.0;
+  /// The service manager's stop timeout (TimeoutStopSec of the installed unit by default); the
+  /// longest stop, 2 x rampOutSeconds() + 1 s, must fit in it.
+  double stopTimeoutS = kDefaultStopTimeoutS;
+  /// Accept a model whose offsets exceed the limiter's max_offset somewhere in the travel (the
+  /// limiter clamps them; tests of the clamp and installations that want it say so explicitly).
+  bool acceptModelBeyondMaxOffset = false;
   std::string modelPath;  ///< resolved against the configuration file's directory
   ReconnectConfig reconnect;
   std::string logLevel = "info";
   /// The "transport" section, read into its driver's settings (transportType() names it).
   TransportSettings transport;
 };
+
+/// Time the limiter needs to ramp the largest allowed offset out, s: per axis max_offset / max_rate,
+/// plus the acceleration and braking phases (2 x max_rate / max_accel) when an acceleration limit
+/// is set; the longest axis.
+double rampOutSeconds(const loop::LimiterSettings& limiter) noexcept;
 
 /// Reads and validates a daemon configuration file. Throws ConfigError (file, key path, what was
 /// expected) on any problem, including a file that cannot be read or is not JSON.

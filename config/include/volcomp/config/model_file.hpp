@@ -1,6 +1,6 @@
 #pragma once
-/// Model files (shared/spec/model.md section 7 and 8) <-> model specs, with unit conversion and
-/// key-path validation. Everything returned is in internal units (mm, rad).
+/// Model files (the volcomp-model/1 format, docs/model-file.md) <-> model specs, with unit
+/// conversion and key-path validation. Everything returned is in internal units (mm, rad).
 
 #include <map>
 #include <optional>
@@ -32,9 +32,22 @@ struct ErrorUnits {
   double angleToRad = 1.0;
 };
 
+/// The largest error values a file may hold before `volcomp check` and volcompd call it
+/// implausible for a machine tool (config/model_plausibility.hpp). The defaults; a file may
+/// override them with "plausibility": {"max_length_mm": L, "max_angle_rad": A}.
+struct PlausibilityLimits {
+  double maxLengthMm = 1.0;   ///< |translational error value| and |E(q)|, mm
+  double maxAngleRad = 1e-2;  ///< |angular error value|, rad
+  bool stated = false;        ///< the file overrides the defaults
+};
+
 struct ModelDocument {
   std::string file;
   ErrorUnits units;
+  /// The file states "error_units" (a file without it is read as mm and rad, and refused by
+  /// the plausibility check: values typed in µm would be read 1000 times too large).
+  bool unitsStated = false;
+  PlausibilityLimits plausibility;
   /// A 3-axis machine model or a D-H chain.
   std::variant<model::MachineModelSpec, model::DhChainSpec> spec;
   /// With ParseOptions::allowIdentify: key path (e.g. "components.EXX",

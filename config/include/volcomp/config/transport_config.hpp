@@ -29,4 +29,8 @@ TransportSettings parseTransportSettings(const nlohmann::json& section, const st
 /// The section's "type": "modbus-tcp", "modbus-rtu", "can" or "linuxcnc".
 std::string transportType(const TransportSettings& settings);
 
+/// Where the transport talks to, for log lines and reports: "modbus-tcp 192.168.0.10:502",
+/// "modbus-rtu /dev/ttyUSB0 (115200 8N1, slave 1)", "can can0".
+std::string transportEndpoint(const TransportSettings& settings);
+
 }  // namespace volcomp::config

@@ -32,6 +32,7 @@ constexpr std::size_t index(Field f) noexcept {
 CanControllerPort::CanControllerPort(CanLayout layout)
     : layout_(std::move(layout)), channel_(io_, *this) {
   slots_.resize(layout_.inputFrames.size());
+  latestFrames_.resize(layout_.inputFrames.size());
   for (std::size_t i = 0; i < layout_.inputFrames.size(); ++i) {
     const FrameLayout& f = layout_.inputFrames[i];
     if (layout_.inputFrames.size() <= kMaxKernelFilters)
@@ -226,6 +227,7 @@ void CanControllerPort::onFrame(const Frame& frame) noexcept {
   InputSlot& slot = slots_[slotIndex];
   if (slot.fresh) ++stats_.discardedFrames;
   slot.values = values;
+  slot.frame = frame;
   slot.sequence = sequence;
   slot.fresh = true;
   ++stats_.framesReceived;
@@ -256,7 +258,10 @@ void CanControllerPort::completeIfConsistent(std::size_t newest) noexcept {
   latest_.homed = value(Field::Homed) != 0.0;
   if (layout_.hasSequence)
     latest_.sequence = static_cast<std::uint16_t>(slots_[newest].sequence & 0xFFFFu);
-  for (InputSlot& slot : slots_) slot.fresh = false;
+  for (std::size_t i = 0; i < slots_.size(); ++i) {
+    latestFrames_[i] = slots_[i].frame;
+    slots_[i].fresh = false;
+  }
   haveSet_ = true;
   setTime_ = Clock::now();
   ++stats_.completeSets;

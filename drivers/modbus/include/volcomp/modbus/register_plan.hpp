@@ -5,11 +5,14 @@
 /// Shared by the driver (decode inputs, encode outputs) and the simulated controller (encode
 /// inputs, decode outputs), so that both ends read the map the same way.
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <system_error>
 
 #include "volcomp/loop/ports.hpp"
+#include "volcomp/modbus/codec.hpp"
 #include "volcomp/modbus/registers.hpp"
 
 namespace volcomp::modbus {
@@ -59,6 +62,37 @@ std::error_code encodeOutputs(const RegisterMap& map, const loop::OffsetCommand&
 /// those registers kept). Values that do not fit saturate; the result says so.
 std::error_code encodeInputs(const RegisterMap& map, const loop::AxisSample& sample,
                              TableView holding, TableView input) noexcept;
+
+/// One value of the register map as it was on the wire: where it is, its registers as read or
+/// written, and what they decode to (commissioning: `volcompd --probe`).
+struct FieldReading {
+  const char* name = "";  ///< "position.X", "enable", "offset.Z", "status", ...
+  RegisterTable table = RegisterTable::Holding;
+  std::uint16_t address = 0;
+  int width = 1;         ///< registers
+  int bit = -1;          ///< the bit of a flag, -1 for values and words
+  ValueFormat format;    ///< for values (width from format.type); words are uint16
+  bool isValue = false;  ///< a typed length (mm); else a flag (bit) or a plain word
+  std::array<std::uint16_t, 4> registers{};  ///< the first `width` are the raw registers
+  double valueMm = 0.0;                      ///< decoded length (values)
+  unsigned word = 0;                         ///< the word (words) or the bit (flags)
+  CodecStatus status = CodecStatus::Ok;
+};
+
+/// At most 9 inputs (3 positions, enable, homed, sequence, 3 applied offsets) and 5 outputs.
+inline constexpr std::size_t kMaxFieldReadings = 9;
+struct FieldReadings {
+  std::array<FieldReading, kMaxFieldReadings> fields{};
+  std::size_t count = 0;
+};
+
+/// Every input of `map` as read into `holding` and `input` (which must cover the plan's read
+/// blocks), raw and decoded. noexcept, no allocation.
+FieldReadings describeInputs(const RegisterMap& map, ConstTableView holding,
+                             ConstTableView input) noexcept;
+
+/// Every output of `map` as encoded into `holding` (which must cover the plan's write block).
+FieldReadings describeOutputs(const RegisterMap& map, ConstTableView holding) noexcept;
 
 /// Simulator side: decodes the outputs from the holding table.
 std::error_code decodeOutputs(const RegisterMap& map, ConstTableView holding,

@@ -69,12 +69,17 @@ class CanControllerPort final : public loop::ControllerPort, private FrameReceiv
   /// The socket error that last ended the link (for the log line), empty before any.
   std::error_code lastLinkError() const noexcept { return lastLinkError_; }
   const CanLayout& layout() const noexcept { return layout_; }
+  /// The input frames of the last complete set (in layout_.inputFrames order) and the output
+  /// frames of the last write, raw, for commissioning (decode them with the signal codec).
+  const std::vector<Frame>& lastInputFrames() const noexcept { return latestFrames_; }
+  const std::vector<Frame>& lastOutputFrames() const noexcept { return txFrames_; }
 
  private:
   struct InputSlot {
     bool fresh = false;  ///< received since the last complete set (or the last SYNC)
     std::uint64_t sequence = 0;
     std::array<double, kFieldCount> values{};
+    Frame frame;  ///< the frame the values came from
   };
 
   void onFrame(const Frame& frame) noexcept override;
@@ -95,6 +100,7 @@ class CanControllerPort final : public loop::ControllerPort, private FrameReceiv
   std::vector<InputSlot> slots_;
   std::array<std::size_t, kFieldCount> fieldSlot_{};
   std::vector<Frame> txFrames_;
+  std::vector<Frame> latestFrames_;  ///< one per input frame, sized once
   loop::AxisSample latest_;
   bool haveSet_ = false;
   std::uint64_t setsAtSync_ = 0;

@@ -55,6 +55,18 @@ class ModbusControllerPort final : public loop::ControllerPort {
   const ModbusSettings& settings() const noexcept { return settings_; }
   const RegisterPlan& plan() const noexcept { return plan_; }
   const PortStatistics& statistics() const noexcept { return stats_; }
+  /// The registers of the last read (holding and input blocks at their plan addresses) and of
+  /// the last write, raw, for commissioning (describeInputs / describeOutputs).
+  ConstTableView lastHoldingRead() const noexcept {
+    return {std::span<const std::uint16_t>(holding_.data(), holding_.size()),
+            plan_.holdingRead.start};
+  }
+  ConstTableView lastInputRead() const noexcept {
+    return {std::span<const std::uint16_t>(input_.data(), input_.size()), plan_.inputRead.start};
+  }
+  ConstTableView lastWrite() const noexcept {
+    return {std::span<const std::uint16_t>(output_.data(), output_.size()), plan_.write.start};
+  }
 
  private:
   struct ContextDeleter {

@@ -70,11 +70,13 @@ class DhIdentification final : public IdentificationProblem {
       const std::string key = match[2].str();
       const std::string label = "links[" + std::to_string(link) + "]." + key;
       model::DhLinkSpec& spec = template_.links.at(static_cast<std::size_t>(link));
+      // A structured binding cannot be captured by Clang 14's lambdas (C++20 allows it).
+      const std::string& blockPath = keyPath;
       const auto add = [&](Field field, int component, const std::string& name, bool angle) {
         DeviationParameter parameter{link, field, component, deviation(spec, field, component)};
         parameters_.push_back(parameter);
-        info_.push_back({name, keyPath, angle ? "deg" : "mm", angle ? 1.0 / kDegToRad : 1.0, false,
-                         angle ? ParameterInfo::Kind::Angle : ParameterInfo::Kind::Length});
+        info_.push_back({name, blockPath, angle ? "deg" : "mm", angle ? 1.0 / kDegToRad : 1.0,
+                         false, angle ? ParameterInfo::Kind::Angle : ParameterInfo::Kind::Length});
       };
       if (key == "dtheta") add(Field::Theta, 0, label, true);
       if (key == "dd") add(Field::D, 0, label, false);

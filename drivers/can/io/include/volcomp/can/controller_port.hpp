@@ -103,7 +103,6 @@ class CanControllerPort final : public loop::ControllerPort, private FrameReceiv
   std::vector<Frame> latestFrames_;  ///< one per input frame, sized once
   loop::AxisSample latest_;
   bool haveSet_ = false;
-  std::uint64_t setsAtSync_ = 0;
   bool linkLost_ = false;
   std::chrono::steady_clock::time_point setTime_{};
   std::chrono::steady_clock::time_point connectTime_{};

@@ -74,9 +74,9 @@ class DaemonTest : public ::testing::Test {
  protected:
   void make(Daemon::Loader loader = {}) {
     if (!loader)
-      loader = [] { return LoadedConfiguration{testConfig(), std::make_shared<FakeModel>()}; };
+      loader = [] { return LoadedConfiguration{testConfig(), std::make_shared<FakeModel>(), {}}; };
     daemon = std::make_unique<Daemon>(io, port, clock, notifier,
-                                      LoadedConfiguration{testConfig(), model}, loader,
+                                      LoadedConfiguration{testConfig(), model, {}}, loader,
                                       [this] { finished = true; });
   }
 
@@ -157,7 +157,7 @@ TEST_F(DaemonTest, RejectedReloadKeepsTheModelAndReportsIt) {
 
 TEST_F(DaemonTest, GoodReloadSlewsToTheNewModel) {
   auto next = std::make_shared<FakeModel>(std::array<double, 3>{0.01, -0.02, 0.2});
-  make([next] { return LoadedConfiguration{testConfig(), next}; });
+  make([next] { return LoadedConfiguration{testConfig(), next, {}}; });
   daemon->start();
   ASSERT_TRUE(runUntil(io, [&] { return port.applied[2] == 0.03; }));
   std::vector<OffsetCommand> writes;
@@ -205,7 +205,7 @@ Daemon::Loader blockingFirstLoad(const std::shared_ptr<BlockingLoad>& block) {
       block->cv.notify_all();
       throw config::ConfigError("model.fifo", "", "released at the end of the test");
     }
-    return LoadedConfiguration{testConfig(), std::make_shared<FakeModel>()};
+    return LoadedConfiguration{testConfig(), std::make_shared<FakeModel>(), {}};
   };
 }
 
@@ -303,9 +303,10 @@ TEST_F(SystemdNotifierTest, DaemonLifecycleOverARealNotifySocket) {
   SystemdNotifier notifier;
   bool finished = false;
   Daemon daemon(
-      io, port, clock, notifier, LoadedConfiguration{testConfig(), std::make_shared<FakeModel>()},
+      io, port, clock, notifier,
+      LoadedConfiguration{testConfig(), std::make_shared<FakeModel>(), {}},
       [] {
-        return LoadedConfiguration{testConfig(), std::make_shared<FakeModel>()};
+        return LoadedConfiguration{testConfig(), std::make_shared<FakeModel>(), {}};
       },
       [&] { finished = true; });
   daemon.start();

@@ -170,9 +170,17 @@ PointsSummary evaluatePointsFile(const model::MachineModel& model,
   };
   while (csv.next()) {
     const std::size_t lineNumber = csv.line();
-    const Eigen::Vector3d qMm(csv.number(x), csv.number(y), csv.number(z));
-    const Eigen::Vector3d toolMm =
-        tx >= 0 ? Eigen::Vector3d(csv.number(tx), csv.number(ty), csv.number(tz)) : model.toolMm();
+    // One column after the other, so that a bad row names its first bad field (the order in
+    // which a constructor's arguments are evaluated is unspecified).
+    const auto vector = [&](int a, int b, int c) {
+      Eigen::Vector3d v;
+      v.x() = csv.number(a);
+      v.y() = csv.number(b);
+      v.z() = csv.number(c);
+      return v;
+    };
+    const Eigen::Vector3d qMm = vector(x, y, z);
+    const Eigen::Vector3d toolMm = tx >= 0 ? vector(tx, ty, tz) : model.toolMm();
     if (std::find(summary.toolsMm.begin(), summary.toolsMm.end(), toolMm) ==
         summary.toolsMm.end()) {
       summary.toolsMm.push_back(toolMm);

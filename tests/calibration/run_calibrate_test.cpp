@@ -39,6 +39,7 @@ class RunCalibrate : public ::testing::Test {
   static std::string measurementCsv(unsigned seed = 1) {
     const json truth{{"format", "volcomp-model/1"},
                      {"topology", "FXYZ"},
+                     {"travel", {{"X", {0, 800}}, {"Y", {0, 500}}, {"Z", {-400, 0}}}},
                      {"tool", {0, 0, 100}},
                      {"error_units", {{"length", "um"}, {"angle", "urad"}}},
                      {"components",
@@ -65,6 +66,7 @@ class RunCalibrate : public ::testing::Test {
     json t{{"format", "volcomp-model/1"},
            {"name", "test machine"},
            {"topology", "FXYZ"},
+           {"travel", {{"X", {0, 800}}, {"Y", {0, 500}}, {"Z", {-400, 0}}}},
            {"tool", {0, 0, 100}},
            {"error_units", {{"length", "um"}, {"angle", "urad"}}},
            {"components",

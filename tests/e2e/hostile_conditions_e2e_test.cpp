@@ -29,6 +29,7 @@ class HostileConditions : public ProcessTest {
   json daemonFor(const Listening& at) const {
     json d = daemonConfig(at, exampleFile("vmc-xyfz-21.json"));
     d["limiter"]["max_offset_mm"] = kMaxOffsetMm;
+    d["accept_model_beyond_max_offset"] = true;  // the model exceeds max_offset on purpose
     d["limiter"]["max_rate_mm_s"] = kMaxRateMmS;
     return d;
   }

@@ -45,6 +45,7 @@ class Hostile : public ProcessTest {
     json daemon =
         daemonConfig(Listening{"tcp", peer_->port(), ""}, exampleFile("vmc-xyfz-21.json"));
     daemon["limiter"]["max_offset_mm"] = kMaxOffsetMm;
+    daemon["accept_model_beyond_max_offset"] = true;  // the model exceeds max_offset on purpose
     daemon["limiter"]["max_rate_mm_s"] = kMaxRateMmS;
     startDaemon(daemon);
   }

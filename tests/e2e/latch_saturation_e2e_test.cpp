@@ -35,6 +35,7 @@ class LatchSaturation : public ProcessTest {
   json daemonFor(const Listening& at) const {
     json d = daemonConfig(at, model_);
     d["limiter"]["max_offset_mm"] = maxOffsetMm_;
+    d["accept_model_beyond_max_offset"] = true;  // the model exceeds max_offset on purpose
     d["limiter"]["max_rate_mm_s"] = kMaxRateMmS;
     d["transport"]["registers"]["fault_ack"] = {{"address", 6}, {"bit", 2}};
     return d;
@@ -163,6 +164,7 @@ TEST_F(LatchSaturation, PerAxisLimitsHoldOnTheWire) {
   const Listening at = startSim(sim_cfg_, {"--port", "0"});
   json d = daemonFor(at);
   d["limiter"]["max_offset_mm"] = maxOffset;
+  d["accept_model_beyond_max_offset"] = true;  // the model exceeds max_offset on purpose
   d["limiter"]["max_rate_mm_s"] = maxRate;
   d["limiter"]["saturation_fault_ms"] = 0;
   startDaemon(d);

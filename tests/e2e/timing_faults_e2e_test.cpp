@@ -52,6 +52,7 @@ class TimingFaults : public ProcessTest, public ::testing::WithParamInterface<Li
     json d = daemonConfig(at, model_,
                           GetParam().rtu ? "volcompd-modbus-rtu.json" : "volcompd-modbus-tcp.json");
     d["limiter"]["max_offset_mm"] = kMaxOffsetMm;
+    d["accept_model_beyond_max_offset"] = true;  // the model exceeds max_offset on purpose
     d["limiter"]["max_rate_mm_s"] = kMaxRateMmS;
     d["limiter"]["saturation_fault_ms"] = 0;  // the x8 model clamps: not the point here
     return d;

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "volcomp/config/printable.hpp"
 #include "volcomp/nc/nc_error.hpp"
 #include "volcomp/nc/numbers.hpp"
 
@@ -149,19 +150,7 @@ void CanonReader::read(std::string_view line, std::string_view eol, long number,
       args.offsets[static_cast<std::size_t>(args.count++)] = args.rawOffset + start;
     }
   }
-  const auto number_ = [&](int index) {
-    if (index >= args.count) {
-      fail(number, args.rawOffset + args.raw.size(),
-           std::string(name) + ": expected at least " + std::to_string(index + 1) + " arguments");
-    }
-    double v = 0.0;
-    if (!toNumber(args.items[static_cast<std::size_t>(index)], v)) {
-      fail(number, args.offsets[static_cast<std::size_t>(index)],
-           std::string(name) + ": expected a number, got \"" +
-               std::string(args.items[static_cast<std::size_t>(index)]) + "\"");
-    }
-    return v;
-  };
+  const auto number_ = [&](int index) { return argument(args, name, number, index); };
   std::string text;
   const auto emit = [&](const std::string& t) {
     work.action = LineAction::Text;
@@ -347,22 +336,27 @@ void CanonReader::read(std::string_view line, std::string_view eol, long number,
   chunk.lines.push_back(work);
 }
 
+double CanonReader::argument(const Arguments& args, std::string_view name, long number,
+                             int index) const {
+  if (index >= args.count) {
+    fail(number, args.rawOffset + args.raw.size(),
+         std::string(name) + ": expected at least " + std::to_string(index + 1) + " arguments");
+  }
+  double v = 0.0;
+  if (!toNumber(args.items[static_cast<std::size_t>(index)], v)) {
+    // What was found is shown escaped and shortened, as every message that echoes input.
+    fail(number, args.offsets[static_cast<std::size_t>(index)],
+         std::string(name) + ": expected a number, got " +
+             config::quoted(args.items[static_cast<std::size_t>(index)]));
+  }
+  return v;
+}
+
 void CanonReader::motion(const Arguments& args, std::string_view name, long number,
                          std::string_view line, std::string_view eol, Chunk& chunk) {
   const bool arc = name == "ARC_FEED";
   const int first = arc ? 6 : 3;
-  const auto value = [&](int index) {
-    if (index >= args.count) {
-      fail(number, args.rawOffset + args.raw.size(),
-           std::string(name) + ": expected at least " + std::to_string(index + 1) + " arguments");
-    }
-    double v = 0.0;
-    if (!toNumber(args.items[static_cast<std::size_t>(index)], v)) {
-      fail(number, args.offsets[static_cast<std::size_t>(index)],
-           std::string(name) + ": expected a number");
-    }
-    return v;
-  };
+  const auto value = [&](int index) { return argument(args, name, number, index); };
   for (int i = first; i < std::min(args.count, first + 3); ++i) {
     if (value(i) != 0.0) {
       fail(number, args.offsets[static_cast<std::size_t>(i)],

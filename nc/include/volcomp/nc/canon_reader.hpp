@@ -44,6 +44,9 @@ class CanonReader final : public ProgramReader {
  private:
   struct Arguments;
   [[noreturn]] void fail(long number, std::size_t offset, const std::string& message) const;
+  /// Argument `index` of a canonical call as a number; a missing or non-numeric one is an error
+  /// at its column.
+  double argument(const Arguments& args, std::string_view name, long number, int index) const;
   void motion(const Arguments& args, std::string_view name, long number, std::string_view line,
               std::string_view eol, Chunk& chunk);
   PrintMode printMode() const noexcept;

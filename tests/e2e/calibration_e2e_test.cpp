@@ -179,7 +179,9 @@ TEST_F(CalibrationPipeline, CalibratedModelRemovesAtLeast90PercentOfTheTrueError
   ASSERT_EQ(correlation.size(), n);
   for (std::size_t i = 0; i < n; ++i) {
     ASSERT_EQ(correlation[i].size(), n);
-    if (identifiable[i]) EXPECT_NEAR(correlation[i][i].get<double>(), 1.0, 1e-9) << i;
+    if (identifiable[i]) {
+      EXPECT_NEAR(correlation[i][i].get<double>(), 1.0, 1e-9) << i;
+    }
     for (std::size_t j = 0; j < i; ++j) {
       if (!identifiable[i] || !identifiable[j]) {
         EXPECT_TRUE(correlation[i][j].is_null() && correlation[j][i].is_null()) << i << ", " << j;

@@ -1,13 +1,13 @@
 #pragma once
-/// The planar 2-DOF parallel measuring device of seed 003 (Hanak, Zirn, Ruoff): two sliders on one
+/// The planar 2-DOF parallel measuring device of Hanak, Zirn, Ruoff (seed 003): two sliders on one
 /// straight guide (scale readings a, b in mm) carry legs of length La, Lb that meet at the TCP.
 /// Calibration against a lattice grid plate (LGP) identifies the device errors of table 1.
 ///
 /// Device frame D: x along the guide, y towards the TCP. Foot joints at
 /// A = (a + ea, eha), B = (b + eb, ehb); legs La = La0 + eLa, Lb = Lb0 + eLb (all mm). The TCP is
-/// the intersection of the two circles on the +y side (seed 003 eq. 2).
+/// the intersection of the two circles on the +y side (the paper's eq. 2).
 ///
-/// Comparison with the LGP (seed 003 section 3): both data sets are taken relative to a reference
+/// Comparison with the LGP (the paper's section 3): both data sets are taken relative to a reference
 /// point (index ref); the LGP reading of the reference point is itself off by (exK, eyK), and the
 /// LGP axes are rotated by phi (rad) against the device's:
 ///   dL_i = R(phi) (r_i - r_ref) - (g_i - g_ref) + (exK, eyK),  R(phi) = [cos sin; -sin cos].

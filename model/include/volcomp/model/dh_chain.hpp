@@ -1,13 +1,13 @@
 #pragma once
-/// Denavit-Hartenberg chains (spec section 8, seed 000).
+/// Denavit-Hartenberg chains (docs/model-file.md "Denavit-Hartenberg chains").
 /// Standard: A_i = Rz(theta_i) Trans(0,0,d_i) Trans(a_i,0,0) Rx(alpha_i);
 /// modified (Craig): A_i = Rx(alpha_i) Trans(a_i,0,0) Rz(theta_i) Trans(0,0,d_i);
 /// fixed transform: Trans(x,y,z) Rz(rz) Ry(ry) Rx(rx). T = A_1 A_2 ... A_n.
 /// A prismatic joint's variable adds to d, a revolute joint's to theta. T_nominal uses the nominal
 /// parameters, T_actual every parameter plus its deviation (for a fixed transform: translation +
 /// dtranslation and rotation + drotation inside the same Trans Rz Ry Rx product). The error is the
-/// last column of T_actual - T_nominal (seed 000 eq. 13), all in the chain's base frame.
-/// Internal units: mm and rad (the config layer converts the file's degrees).
+/// last column of T_actual - T_nominal (Bulla Ramos et al. 2018, eq. 13), all in the chain's base
+/// frame. Internal units: mm and rad (the config layer converts the file's degrees).
 
 #include <cstdint>
 #include <string>

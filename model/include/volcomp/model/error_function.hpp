@@ -1,7 +1,7 @@
 #pragma once
-/// Error functions along one axis (spec section 5): constant, table (linear, quadratic 3-node
-/// elements, natural cubic spline; optionally bidirectional), polynomial.
-/// Values are in the model's internal units (mm or rad); positions are mm.
+/// Error functions along one axis (docs/model-file.md "Error functions"): constant, table (linear,
+/// quadratic 3-node elements, natural cubic spline; optionally bidirectional), polynomial. Values
+/// are in the model's internal units (mm or rad); positions are mm.
 
 #include <array>
 #include <variant>

@@ -1,6 +1,6 @@
 #pragma once
-/// Grid maps (spec section 6): a translational error component (EX, EY or EZ, mm) over 2 or 3 axes,
-/// bi- or trilinearly interpolated, positions clamped to the grid.
+/// Grid maps (docs/model-file.md "Grid maps"): a translational error component (EX, EY or EZ, mm)
+/// over 2 or 3 axes, bi- or trilinearly interpolated, positions clamped to the grid.
 
 #include <array>
 #include <vector>

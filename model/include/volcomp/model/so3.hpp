@@ -5,8 +5,9 @@
 
 namespace volcomp::model {
 
-/// Rz(c) Ry(b) Rx(a): right-hand rotations about the fixed X, Y, Z axes (spec section 1), rad.
-/// Exact to double precision; uses short series for small angles, so cheap for error angles.
+/// Rz(c) Ry(b) Rx(a): right-hand rotations about the fixed X, Y, Z axes (docs/model-file.md
+/// "Frames, units, signs"), rad. Exact to double precision; uses short series for small angles, so
+/// cheap for error angles.
 Eigen::Matrix3d rotationZYX(double aRad, double bRad, double cRad) noexcept;
 
 /// Rotation vector (axis * angle, rad) of a rotation matrix: the SO(3) log map. Accurate for small

@@ -1,7 +1,7 @@
 #pragma once
-/// Machine topology strings (spec section 2), e.g. "XYFZ": letters before F are workpiece-side
-/// axes listed from the workpiece to the frame; letters after F are tool-side axes from the frame
-/// to the tool.
+/// Machine topology strings (docs/model-file.md "Topology"), e.g. "XYFZ": letters before F are
+/// workpiece-side axes listed from the workpiece to the frame; letters after F are tool-side axes
+/// from the frame to the tool.
 
 #include <string>
 #include <string_view>

@@ -1,7 +1,7 @@
 #pragma once
-/// The compensation loop: one `step()` per cycle, states and safety rules of daemon.md section 3.
-/// It depends only on a ControllerPort (link, position source, offset sink), a Clock and a model
-/// handle; timing (absolute deadlines) is the scheduler's job.
+/// The compensation loop: one `step()` per cycle, states and safety rules of docs/daemon.md
+/// "States". It depends only on a ControllerPort (link, position source, offset sink), a Clock and
+/// a model handle; timing (absolute deadlines) is the scheduler's job.
 ///
 /// States and what each writes (in one transaction: offsets, status word, heartbeat):
 ///   Starting  nothing, until the applied offsets are read back (offsetReadback) or known zero

@@ -1,6 +1,7 @@
 #pragma once
-/// Direction in which each axis last moved, with hysteresis (model.md section 5): selects the
-/// curve of bidirectional tables. Per axis the tracker keeps a reference position r:
+/// Direction in which each axis last moved, with hysteresis (docs/model-file.md "Error functions":
+/// bidirectional tables): selects the curve of bidirectional tables. Per axis the tracker keeps a
+/// reference position r:
 ///   - while the direction is Positive, r follows the highest position seen; the direction turns
 ///     Negative once q < r - h (and symmetrically for Negative);
 ///   - while Unknown (at start), it becomes Positive when q > r + h and Negative when q < r - h.

@@ -1,6 +1,6 @@
 #pragma once
-/// The limiter every written offset goes through (daemon.md section 2). Per axis k, with the
-/// limits of that axis, in this order:
+/// The limiter every written offset goes through (docs/daemon.md "What each cycle does"). Per axis
+/// k, with the limits of that axis, in this order:
 ///   target from the model -> clamp to [-maxOffsetMm_k, +maxOffsetMm_k]
 ///   -> slew limit |o_i - o_{i-1}| <= maxRateMmS_k * dt
 ///   -> optional acceleration limit |v_i - v_{i-1}| <= maxAccelMmS2_k * dt, v_i = (o_i - o_{i-1})

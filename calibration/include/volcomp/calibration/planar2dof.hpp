@@ -7,9 +7,9 @@
 /// A = (a + ea, eha), B = (b + eb, ehb); legs La = La0 + eLa, Lb = Lb0 + eLb (all mm). The TCP is
 /// the intersection of the two circles on the +y side (the paper's eq. 2).
 ///
-/// Comparison with the LGP (the paper's section 3): both data sets are taken relative to a reference
-/// point (index ref); the LGP reading of the reference point is itself off by (exK, eyK), and the
-/// LGP axes are rotated by phi (rad) against the device's:
+/// Comparison with the LGP (the paper's section 3): both data sets are taken relative to a
+/// reference point (index ref); the LGP reading of the reference point is itself off by (exK, eyK),
+/// and the LGP axes are rotated by phi (rad) against the device's:
 ///   dL_i = R(phi) (r_i - r_ref) - (g_i - g_ref) + (exK, eyK),  R(phi) = [cos sin; -sin cos].
 /// Parameters, in this order: eLa, eLb, ea, eha, eb, ehb (mm), phi (rad), exK, eyK (mm).
 /// With all nine free the data cannot separate ea from eb nor eha from ehb (a shift of the whole

@@ -19,7 +19,7 @@ using volcomp::daemon::loadCompensationModel;
 LoopSettings benchSettings() {
   LoopSettings s;
   s.period = std::chrono::milliseconds(1);
-  s.limiter = loop::LimiterSettings::uniform(0.5, 1.0, 100.0);
+  s.limiter = LimiterSettings::uniform(0.5, 1.0, 100.0);
   return s;
 }
 

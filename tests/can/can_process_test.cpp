@@ -191,5 +191,57 @@ TEST_F(CanProcess, InterfaceDownIsALinkLossAndRecoveryDoesNotJump) {
   EXPECT_EQ(rows.back().status, 0U);
 }
 
+// --probe over CAN: one consistent set of the controller's frames, every signal with its frame,
+// DBC name, bit layout, scale and raw value; nothing is sent to the controller.
+TEST_F(CanProcess, ProbeShowsEveryFrameAndSignalAndWritesNothing) {
+  ASSERT_NO_FATAL_FAILURE(startCanSim(canSimConfig()));
+  std::string out;
+  ASSERT_EQ(probe(canDaemonConfig(), {}, out), 0) << out;
+  EXPECT_NE(out.find("probe       can " + can::test::interfaceName()), std::string::npos) << out;
+  for (const char* frame : {"frame 0x100 [8] ", "frame 0x101 [8] ", "frame 0x102 [8] "}) {
+    EXPECT_NE(out.find(frame), std::string::npos) << frame << '\n' << out;
+  }
+  for (const char* signal :
+       {"X_Pos 0|28@1- x0.0001", "Y_Pos 28|28@1- x0.0001", "Z_Pos 0|32@1- x0.0001",
+        "Enable 32|1@1+", "Homed 33|1@1+", "App_X 0|16@1- x0.0001", "App_Z 32|16@1- x0.0001"}) {
+    EXPECT_NE(out.find(signal), std::string::npos) << signal << '\n' << out;
+  }
+  for (const char* field : {"position.X", "position.Y", "position.Z", "enable", "homed",
+                            "applied_offset.X", "applied_offset.Z"}) {
+    EXPECT_NE(out.find("    " + std::string(field)), std::string::npos) << field << '\n' << out;
+  }
+  EXPECT_NE(out.find("written     nothing"), std::string::npos) << out;
+  const json report = finishSim();
+  ASSERT_TRUE(report.is_object()) << sim_->stderrText();
+  EXPECT_EQ(report["writes"], 0) << report.dump();
+}
+
+// --test-offset over CAN: the offset goes through the limiter, is read back from the controller's
+// applied-offset frame and ramped out; every frame the simulator received is within the limits.
+TEST_F(CanProcess, TestOffsetGoesThroughTheLimiterReadsBackAndRampsOut) {
+  ASSERT_NO_FATAL_FAILURE(startCanSim(canSimConfig()));
+  std::string out;
+  ASSERT_EQ(probe(canDaemonConfig(), {"--test-offset", "Y:-5um", "--hold", "0.3"}, out), 0) << out;
+  EXPECT_NE(out.find("test-offset: Y -5 um through the limiter"), std::string::npos) << out;
+  EXPECT_NE(out.find("read back -5 um (applied_offset.Y), equal to the target"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("ramp-out  zero written with status 0"), std::string::npos) << out;
+  const json report = finishSim();
+  ASSERT_TRUE(report.is_object()) << sim_->stderrText();
+  EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
+  const auto rows = record();
+  ASSERT_GT(rows.size(), 3U);
+  expectWritesWithinLimits(rows, kMaxOffsetMm, kMaxRateMmS, kPeriodS);
+  double smallestY = 0.0;
+  for (const WriteRow& row : rows) {
+    smallestY = std::min(smallestY, row.offsetMm[1]);
+    EXPECT_EQ(row.offsetMm[0], 0.0);
+    EXPECT_EQ(row.offsetMm[2], 0.0);
+  }
+  EXPECT_NEAR(smallestY, -0.005, 1e-9);
+  EXPECT_EQ(largestAbs(rows.back().offsetMm), 0.0);
+  EXPECT_EQ(rows.back().status, 0U);
+}
+
 }  // namespace
 }  // namespace volcomp::e2e

@@ -33,17 +33,6 @@ class Commissioning : public ProcessTest, public ::testing::WithParamInterface<P
     json d = example(name);
     return daemonConfig(at, exampleFile(d["model"].get<std::string>()), name);
   }
-
-  // volcompd --probe [extra...] against the simulator; returns its exit status, output in `out`.
-  int probe(const json& daemon, const std::vector<std::string>& extra, std::string& out) {
-    std::vector<std::string> argv{kDaemonPath, "--config", writeJson("volcompd.json", daemon),
-                                  "--probe"};
-    argv.insert(argv.end(), extra.begin(), extra.end());
-    testutil::Subprocess child(argv, "", {"NOTIFY_SOCKET", "JOURNAL_STREAM"});
-    const int status = child.waitExit(30s);
-    out = child.output();
-    return status;
-  }
 };
 
 TEST_P(Commissioning, TheExamplePairRunsWithoutLimiterViolations) {

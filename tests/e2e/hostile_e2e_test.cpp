@@ -31,6 +31,7 @@ class Hostile : public ProcessTest {
   static constexpr double kMaxOffsetMm = 0.1;
   static constexpr double kMaxRateMmS = 0.5;
   static constexpr double kPeriodS = 0.010;  // cycle_period_ms of volcompd-modbus-tcp.json
+  static constexpr double kWatchdogS = 0.5;  // heartbeat_timeout_ms of sim-vmc.json
 
   /// The simulator (with the daemon's limits) and a peer in front of it in `mode`.
   void startPeer(Mode mode) {
@@ -88,9 +89,17 @@ TEST_F(Hostile, EveryWayOfAnsweringWronglyFaultsSafelyAndRecovers) {
   ASSERT_TRUE(waitForActive(1)) << daemonLog();
   ASSERT_TRUE(waitForAppliedOffset(0.005)) << daemonLog();
   std::size_t activations = occurrences(daemonLog(), "-> active");
+  // A reply from another unit id is not a fault: libmodbus (3.1.6, Debian 12) checks a TCP
+  // reply's transaction and protocol ids but not its unit id, and the Modbus TCP specification
+  // leaves the unit id to gateways (a server addressed by its IP address answers whatever unit
+  // id it is asked for). The data is the right server's here, so the daemon keeps compensating,
+  // within the limits like everywhere else. (Over RTU the unit id is checked.)
+  misbehave(Mode::WrongUnitId, 40, 3);
+  EXPECT_TRUE(waitForAppliedOffset(0.005)) << daemonLog();
+  activations = occurrences(daemonLog(), "-> active");
   for (const Mode mode :
-       {Mode::WrongTransactionId, Mode::WrongUnitId, Mode::WrongFunction, Mode::Truncated,
-        Mode::Oversized, Mode::TrailingGarbage, Mode::RandomBytes, Mode::Exception, Mode::Silent}) {
+       {Mode::WrongTransactionId, Mode::WrongFunction, Mode::Truncated, Mode::Oversized,
+        Mode::TrailingGarbage, Mode::RandomBytes, Mode::Exception, Mode::Silent}) {
     SCOPED_TRACE(HostileModbusPeer::name(mode));
     // 300 requests in Exception mode: more than 256, so every code is answered at least once.
     misbehave(mode, mode == Mode::Exception ? 300 : 40, 3);
@@ -105,7 +114,7 @@ TEST_F(Hostile, EveryWayOfAnsweringWronglyFaultsSafelyAndRecovers) {
   EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
   const std::vector<WriteRow> rows = record();
   ASSERT_GT(rows.size(), 100U);
-  expectWritesWithinLimits(rows, kMaxOffsetMm, kMaxRateMmS, kPeriodS);
+  expectWritesWithinLimits(rows, kMaxOffsetMm, kMaxRateMmS, kPeriodS, kWatchdogS);
   std::size_t faults = 0;
   for (const WriteRow& row : rows) faults += (row.status & kFault) != 0 ? 1 : 0;
   EXPECT_GT(faults, 0U) << "the faults were reported to the controller";
@@ -124,7 +133,7 @@ TEST_F(Hostile, AServerThatNeverAnswersIsSurvivedUntilItDoes) {
   const json report = finishSim();
   stopDaemon();
   EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
-  expectWritesWithinLimits(record(), kMaxOffsetMm, kMaxRateMmS, kPeriodS);
+  expectWritesWithinLimits(record(), kMaxOffsetMm, kMaxRateMmS, kPeriodS, kWatchdogS);
 }
 
 }  // namespace

@@ -31,6 +31,24 @@ std::string padded(std::string text, std::size_t width) {
   return text + ' ';
 }
 
+// A scale or counts factor as written in a DBC or register map (0.0001, 10000, 0.5): every
+// significant digit, unlike the 3-decimal display of measured values.
+std::string factor(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.10g", value);
+  return buffer;
+}
+
+// A signal's raw bits as the integer they encode: two's complement for a signed signal.
+std::string rawInteger(std::uint64_t raw, const can::SignalSpec& spec) {
+  if (spec.valueType == can::ValueType::Signed && spec.length > 0 && spec.length < 64 &&
+      ((raw >> (spec.length - 1)) & 1U) != 0) {
+    const std::uint64_t magnitude = (~raw + 1U) & ((std::uint64_t{1} << spec.length) - 1U);
+    return "-" + std::to_string(magnitude);
+  }
+  return std::to_string(raw);
+}
+
 std::string millimetres(double mm) {
   char buffer[48];
   std::snprintf(buffer, sizeof buffer, "%+.4f mm", mm);
@@ -86,7 +104,7 @@ void printReadings(std::ostream& out, const modbus::FieldReadings& readings) {
     std::string decoded;
     if (r.isValue) {
       where += std::string(" ") + typeName(r.format.type) + " " + orderName(r.format.order) + " x" +
-               config::significant(r.format.countsPerMm) + (r.format.sign < 0 ? " sign -1" : "");
+               factor(r.format.countsPerMm) + (r.format.sign < 0 ? " sign -1" : "");
       decoded = r.status == modbus::CodecStatus::NotFinite
                     ? "not a number"
                     : millimetres(r.valueMm) + " (" + config::micrometres(r.valueMm) + ")";
@@ -151,12 +169,11 @@ void printFrames(std::ostream& out, const std::vector<can::FrameLayout>& layouts
       double physical = 0.0;
       const std::error_code rawError = can::decodeRaw(s.spec, can::payloadOf(frame), raw);
       const std::error_code error = can::decode(s.spec, can::payloadOf(frame), physical);
-      const std::string where = (s.spec.name.empty() ? std::string("(inline)") : s.spec.name) +
-                                " " + std::to_string(s.spec.startBit) + "|" +
-                                std::to_string(s.spec.length) +
-                                (s.spec.byteOrder == can::ByteOrder::Intel ? "@1" : "@0") +
-                                (s.spec.valueType == can::ValueType::Signed ? "-" : "+") + " x" +
-                                config::significant(s.spec.scale);
+      const std::string where =
+          (s.spec.name.empty() ? std::string("(inline)") : s.spec.name) + " " +
+          std::to_string(s.spec.startBit) + "|" + std::to_string(s.spec.length) +
+          (s.spec.byteOrder == can::ByteOrder::Intel ? "@1" : "@0") +
+          (s.spec.valueType == can::ValueType::Signed ? "-" : "+") + " x" + factor(s.spec.scale);
       std::string decoded;
       if (rawError || error) {
         decoded = "undecodable: " + (rawError ? rawError : error).message();
@@ -170,7 +187,7 @@ void printFrames(std::ostream& out, const std::vector<can::FrameLayout>& layouts
         decoded = std::to_string(raw);
       }
       out << "    " << padded(fieldName(s.field), 17) << padded(where, 28) << "raw "
-          << padded(std::to_string(raw), 12) << decoded << '\n';
+          << padded(rawInteger(raw, s.spec), 12) << decoded << '\n';
     }
   }
 }

@@ -84,6 +84,23 @@ for program in usr/bin/volcomp usr/bin/volcomp-sim usr/sbin/volcompd; do
   "$root/$program" --version
 done
 for config in "$examples"/volcompd-*.json; do
+  # --check-config also checks the machine's side: that the CAN interface or the serial device
+  # exists. Where it does not, the answer is exit status 2 and what to do about it.
+  iface="$(sed -n 's/.*"interface": *"\([^"]*\)".*/\1/p' "$config")"
+  device="$(sed -n 's/.*"device": *"\([^"]*\)".*/\1/p' "$config")"
+  expected=""
+  if [ -n "$iface" ] && [ ! -e "/sys/class/net/$iface" ]; then
+    expected="$iface does not exist on this machine; create it with"
+  elif [ -n "$device" ] && [ ! -e "$device" ]; then
+    expected="$device does not exist: plug in the RS-485 adapter"
+  fi
+  if [ -n "$expected" ]; then
+    status=0
+    out="$("$root/usr/sbin/volcompd" --check-config --config "$config" 2>&1)" || status=$?
+    [ "$status" -eq 2 ] && grep -qF "$expected" <<<"$out" ||
+      fail "volcompd --check-config $(basename "$config"): status $status: $out"
+    continue
+  fi
   "$root/usr/sbin/volcompd" --check-config --config "$config" ||
     fail "volcompd --check-config $(basename "$config")"
 done

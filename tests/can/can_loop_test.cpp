@@ -95,9 +95,13 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
   // A realistic slew limit (the model offset changes by ~0.01 mm/s at this feed): an isolated
   // fault cycle (a late answer in the emulated guest) then removes only a few µm of offset.
   options.limits.maxRateMmS = {0.2, 0.2, 0.2};
-  // The daemon limits the change per cycle with the nominal period; the simulator measures it
-  // with the arrival times it sees, which jitter by up to a period in an emulated guest.
-  options.limits.rateToleranceS = 0.010;
+  // SYNC waits for the answer inside the cycle: a longer period leaves room for an emulated guest.
+  const std::chrono::milliseconds period = param.sync ? 20ms : 10ms;
+  // The daemon limits the change per cycle by the time since its previous write, at most one
+  // period; the simulator measures it with the arrival times it sees, which jitter by up to a
+  // period in an emulated guest.
+  options.limits.cycleS = std::chrono::duration<double>(period).count();
+  options.limits.rateToleranceS = options.limits.cycleS;
   options.limits.quantumMm = {0.0001, 0.0001, 0.0001};
   options.settleS = 1.0;  // the offsets ramp in from zero at max_rate first
   sim::Machine machine(sim::Path::circle({425.0, 250.0, -250.0}, 150.0, 3000.0), trueError,
@@ -132,8 +136,7 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
 
   // The daemon side.
   loop::LoopSettings settings;
-  // SYNC waits for the answer inside the cycle: a longer period leaves room for an emulated guest.
-  settings.period = param.sync ? 20ms : 10ms;
+  settings.period = period;
   settings.limiter = volcomp::loop::LimiterSettings::uniform(0.5, 0.2);
   settings.staleTimeout = 200ms;
   settings.offsetReadback = true;

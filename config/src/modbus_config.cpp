@@ -4,6 +4,8 @@
 #include <string_view>
 #include <vector>
 
+#include <arpa/inet.h>
+
 #include "volcomp/config/json_reader.hpp"
 
 namespace volcomp::config {
@@ -295,23 +297,103 @@ RegisterMap parseModbusRegisterMap(const nlohmann::json& registers, const std::s
   return m;
 }
 
+namespace {
+
+// The server role: the master writes every input, so each must be a holding register (input
+// registers are read-only on the wire), and an applied-offset read-back must be registers the
+// master writes, not the offset outputs the server itself fills.
+void validateServerMap(const RegisterMap& m, const std::string& file, const std::string& keyPath) {
+  const auto holding = [&](RegisterTable table, const std::string& name) {
+    if (table != RegisterTable::Holding) {
+      throw ConfigError(file, joinPath(keyPath, name + ".table"),
+                        "with role \"server\" the master writes every input, so it must be a "
+                        "holding register (input registers are read-only for a master)");
+    }
+  };
+  for (std::size_t k = 0; k < 3; ++k) {
+    holding(m.position[k].table, std::string("position.") + kAxisNames[k]);
+  }
+  holding(m.enable.table, "enable");
+  holding(m.homed.table, "homed");
+  if (m.faultAck) holding(m.faultAck->table, "fault_ack");
+  if (m.sequence) holding(m.sequence->table, "sequence");
+  if (m.appliedOffset) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::string name = std::string("applied_offset.") + kAxisNames[k];
+      holding((*m.appliedOffset)[k].table, name);
+      if ((*m.appliedOffset)[k].address == m.offset[k].address) {
+        throw ConfigError(file, joinPath(keyPath, name),
+                          "with role \"server\" the applied offsets are registers the master "
+                          "writes, not the offset outputs it reads");
+      }
+    }
+  }
+}
+
+std::uint32_t parseIpv4(const JsonReader& r) {
+  const std::string text = r.string();
+  in_addr addr{};
+  if (inet_pton(AF_INET, text.c_str(), &addr) != 1) {
+    r.failExpected("an IPv4 address in dotted form (e.g. \"192.168.0.20\")");
+  }
+  return addr.s_addr;
+}
+
+modbus::ServerSettings parseServer(const JsonReader& r, bool tcp) {
+  modbus::ServerSettings s;
+  if (auto t = r.find("cycle_trigger")) {
+    s.trigger = t->oneOf({"write", "timer"}) == "timer" ? modbus::CycleTrigger::Timer
+                                                        : modbus::CycleTrigger::Write;
+  }
+  if (!tcp) return s;
+  if (auto a = r.find("listen_address")) {
+    parseIpv4(*a);
+    s.listenAddress = a->string();
+  }
+  if (auto list = r.find("allowed_clients")) {
+    for (const JsonReader& a : list->elements(1, 64)) s.allowedClients.push_back(parseIpv4(a));
+  }
+  s.maxConnections = static_cast<int>(r.integerOr("max_connections", 1, 64, 1));
+  return s;
+}
+
+}  // namespace
+
 ModbusSettings parseModbusSettings(const nlohmann::json& section, const std::string& file,
                                    const std::string& keyPath) {
   const JsonReader r(section, file, keyPath);
   r.expectObject();
   const std::string type = r.at("type").oneOf({"modbus-tcp", "modbus-rtu"});
   ModbusSettings c;
+  if (auto role = r.find("role")) {
+    c.role = role->oneOf({"client", "server"}) == "server" ? modbus::ModbusRole::Server
+                                                           : modbus::ModbusRole::Client;
+  }
+  const bool server = c.role == modbus::ModbusRole::Server;
   if (type == "modbus-tcp") {
-    r.allowOnly({"type", "host", "port", "slave_id", "response_timeout_ms", "link_loss_timeouts",
-                 "registers"});
+    if (server) {
+      r.allowOnly({"type", "role", "port", "listen_address", "allowed_clients", "max_connections",
+                   "cycle_trigger", "slave_id", "response_timeout_ms", "registers"});
+    } else {
+      r.allowOnly({"type", "role", "host", "port", "slave_id", "response_timeout_ms",
+                   "link_loss_timeouts", "registers"});
+    }
     modbus::TcpLink tcp;
-    tcp.host = r.at("host").string();
-    if (tcp.host.empty()) r.at("host").failExpected("a host name or address");
-    tcp.port = static_cast<std::uint16_t>(r.at("port").integer(1, 65535));
+    if (!server) {
+      tcp.host = r.at("host").string();
+      if (tcp.host.empty()) r.at("host").failExpected("a host name or address");
+    }
+    // A server may listen on any free port (0: chosen at start and logged).
+    tcp.port = static_cast<std::uint16_t>(r.at("port").integer(server ? 0 : 1, 65535));
     c.link = tcp;
   } else {
-    r.allowOnly({"type", "device", "baud", "parity", "data_bits", "stop_bits", "slave_id",
-                 "response_timeout_ms", "link_loss_timeouts", "registers"});
+    if (server) {
+      r.allowOnly({"type", "role", "device", "baud", "parity", "data_bits", "stop_bits",
+                   "cycle_trigger", "slave_id", "response_timeout_ms", "registers"});
+    } else {
+      r.allowOnly({"type", "role", "device", "baud", "parity", "data_bits", "stop_bits", "slave_id",
+                   "response_timeout_ms", "link_loss_timeouts", "registers"});
+    }
     modbus::RtuLink rtu;
     rtu.device = r.at("device").string();
     if (rtu.device.empty()) r.at("device").failExpected("a serial device path");
@@ -329,6 +411,10 @@ ModbusSettings parseModbusSettings(const nlohmann::json& section, const std::str
   }
   c.linkLossTimeouts = static_cast<int>(r.integerOr("link_loss_timeouts", 1, 1000, 3));
   c.registers = parseModbusRegisterMap(r.at("registers").json(), file, r.childPath("registers"));
+  if (server) {
+    validateServerMap(c.registers, file, r.childPath("registers"));
+    c.server = parseServer(r, type == "modbus-tcp");
+  }
   return c;
 }
 

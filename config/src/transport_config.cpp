@@ -28,15 +28,20 @@ std::string transportType(const TransportSettings& settings) {
 
 std::string transportEndpoint(const TransportSettings& settings) {
   if (const auto* modbus = std::get_if<modbus::ModbusSettings>(&settings)) {
+    const bool server = modbus->role == modbus::ModbusRole::Server;
     if (const auto* tcp = std::get_if<modbus::TcpLink>(&modbus->link)) {
+      if (server) {
+        return "modbus-tcp server " + modbus->server.listenAddress + ":" +
+               std::to_string(tcp->port);
+      }
       const bool v6 = tcp->host.find(':') != std::string::npos;
       return "modbus-tcp " + (v6 ? "[" + tcp->host + "]" : tcp->host) + ":" +
              std::to_string(tcp->port);
     }
     const auto& rtu = std::get<modbus::RtuLink>(modbus->link);
-    return "modbus-rtu " + rtu.device + " (" + std::to_string(rtu.baud) + " " +
-           std::to_string(rtu.dataBits) + rtu.parity + std::to_string(rtu.stopBits) + ", slave " +
-           std::to_string(modbus->slaveId) + ")";
+    return std::string(server ? "modbus-rtu server " : "modbus-rtu ") + rtu.device + " (" +
+           std::to_string(rtu.baud) + " " + std::to_string(rtu.dataBits) + rtu.parity +
+           std::to_string(rtu.stopBits) + ", slave " + std::to_string(modbus->slaveId) + ")";
   }
   if (const auto* can = std::get_if<can::CanLayout>(&settings)) return "can " + can->interfaceName;
   return transportType(settings);

@@ -101,6 +101,8 @@ void checkModbus(const DaemonConfig& c, const modbus::ModbusSettings& m) {
                     std::string("transport.registers.applied_offset.") + kAxes[k]);
     }
   }
+  // A server never waits for the master inside a cycle: its reads and writes are copies.
+  if (m.role == modbus::ModbusRole::Server) return;
   // A cycle reads each input table once and writes once (FC23: the holding read rides on the
   // write); each transaction may wait response_timeout_ms.
   const modbus::RegisterPlan plan = modbus::planRegisters(m.registers);

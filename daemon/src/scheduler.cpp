@@ -30,6 +30,13 @@ void PeriodicScheduler::stop() {
   clock_.cancel();
 }
 
+void PeriodicScheduler::runNow() {
+  if (!running_) return;
+  clock_.cancel();
+  deadline_ = clock_.now();
+  onWake();
+}
+
 void PeriodicScheduler::arm() {
   clock_.asyncWaitUntil(deadline_, [this] { onWake(); });
 }

@@ -66,8 +66,13 @@ std::string checkInterface(const can::CanLayout& layout, const std::string& file
 std::string checkTransportEnvironment(const config::TransportSettings& settings,
                                       const std::string& file) {
   if (const auto* modbus = std::get_if<modbus::ModbusSettings>(&settings)) {
-    if (const auto* tcp = std::get_if<modbus::TcpLink>(&modbus->link))
+    if (const auto* tcp = std::get_if<modbus::TcpLink>(&modbus->link)) {
+      if (modbus->role == modbus::ModbusRole::Server) {
+        return "the server listens on " + modbus->server.listenAddress + ":" +
+               (tcp->port == 0 ? std::string("a free port") : std::to_string(tcp->port));
+      }
       return resolveHost(*tcp, file);
+    }
     return checkDevice(std::get<modbus::RtuLink>(modbus->link), file);
   }
   if (const auto* can = std::get_if<can::CanLayout>(&settings)) return checkInterface(*can, file);

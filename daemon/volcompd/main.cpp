@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 #include <asio/io_context.hpp>
+#include <asio/post.hpp>
 #include <asio/signal_set.hpp>
 #include <csignal>
 #include <cstdio>
@@ -114,6 +115,8 @@ int run(const std::string& configPath, bool checkOnly, bool verbose) {
     signals.async_wait(onSignal);
   };
   signals.async_wait(onSignal);
+  volcomp::volcompd::connectCycleTrigger(
+      *port, [&io, &daemon] { asio::post(io, [&daemon] { daemon.triggerCycle(); }); });
   daemon.start();
   io.run();
   port->disconnect();

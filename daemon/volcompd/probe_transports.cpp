@@ -216,6 +216,12 @@ class CanRawView final : public RawView {
 ProbeTransport makeProbeTransport(const config::TransportSettings& settings,
                                   const std::string& file) {
   ProbeTransport t;
+  const auto* modbusServer = std::get_if<modbus::ModbusSettings>(&settings);
+  if (modbusServer != nullptr && modbusServer->role == modbus::ModbusRole::Server) {
+    throw config::ConfigError(file, "transport.role",
+                              "--probe reads a controller that is a server; with role \"server\" "
+                              "the controller is the master: run volcompd and watch its log");
+  }
   if (const auto* modbusSettings = std::get_if<modbus::ModbusSettings>(&settings)) {
     std::unique_ptr<modbus::ModbusControllerPort> port;
     try {

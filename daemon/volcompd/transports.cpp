@@ -10,6 +10,7 @@
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/linuxcnc/hal_port.hpp"
 #include "volcomp/modbus/controller_port.hpp"
+#include "volcomp/modbus/server_port.hpp"
 
 namespace volcomp::volcompd {
 
@@ -20,6 +21,12 @@ std::unique_ptr<loop::ControllerPort> makeControllerPort(const config::Transport
         using Settings = std::decay_t<decltype(driverSettings)>;
         if constexpr (std::is_same_v<Settings, modbus::ModbusSettings>) {
           try {
+            if (driverSettings.role == modbus::ModbusRole::Server) {
+              return std::make_unique<modbus::ModbusServerPort>(
+                  driverSettings, [](bool warning, std::string_view line) {
+                    spdlog::log(warning ? spdlog::level::warn : spdlog::level::info, "{}", line);
+                  });
+            }
             return std::make_unique<modbus::ModbusControllerPort>(driverSettings);
           } catch (const std::system_error& e) {
             // Validated settings make this unreachable in practice; if libmodbus still refuses
@@ -41,6 +48,14 @@ std::unique_ptr<loop::ControllerPort> makeControllerPort(const config::Transport
         }
       },
       settings);
+}
+
+void connectCycleTrigger(loop::ControllerPort& port, std::function<void()> runCycle) {
+  if (auto* server = dynamic_cast<modbus::ModbusServerPort*>(&port)) {
+    if (server->settings().server.trigger == modbus::CycleTrigger::Write) {
+      server->setCycleTrigger(std::move(runCycle));
+    }
+  }
 }
 
 }  // namespace volcomp::volcompd

@@ -133,3 +133,40 @@ TEST(SteadyWaitableClock, WakesOnTheIoThreadNotBeforeTheDeadline) {
 
 }  // namespace
 }  // namespace volcomp::daemon
+
+namespace volcomp::daemon {
+namespace {
+
+// An event (the Modbus master's position write) runs a cycle at once and restarts the period:
+// the timer's cycle that was due is dropped, the next one comes a period after the event.
+TEST(PeriodicScheduler, RunNowRunsACycleAndCountsThePeriodFromIt) {
+  asio::io_context io;
+  testing::SimulatedClock clock(io);
+  constexpr auto period = 10ms;
+  std::vector<Tp> starts;
+  PeriodicScheduler* self = nullptr;
+  PeriodicScheduler scheduler(clock, period, [&] {
+    starts.push_back(clock.now());
+    if (starts.size() == 2) {
+      asio::post(io, [&] {
+        clock.advance(3ms);
+        self->runNow();
+      });
+    }
+    return starts.size() < 5;
+  });
+  self = &scheduler;
+  scheduler.runNow();  // ignored before start
+  EXPECT_TRUE(starts.empty());
+  scheduler.start();
+  io.run();
+  ASSERT_EQ(starts.size(), 5u);
+  EXPECT_EQ(starts[1] - starts[0], period);
+  EXPECT_EQ(starts[2] - starts[1], 3ms);  // the event
+  EXPECT_EQ(starts[3] - starts[2], period);
+  EXPECT_EQ(starts[4] - starts[3], period);
+  EXPECT_EQ(scheduler.overruns(), 0u);
+}
+
+}  // namespace
+}  // namespace volcomp::daemon

@@ -49,6 +49,8 @@ class ModbusCategory final : public std::error_category {
         return "register value is not a finite number";
       case Errc::value_out_of_range:
         return "value does not fit its register type";
+      case Errc::no_master_write:
+        return "the master has not written a complete position set yet";
     }
     return "unknown Modbus error " + std::to_string(ev);
   }

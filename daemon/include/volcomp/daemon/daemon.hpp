@@ -55,6 +55,10 @@ class Daemon {
   /// SIGHUP: load and validate config and model off the io_context thread, then take them over
   /// between cycles; a rejected file keeps everything as it was and sets RELOAD_FAILED.
   void requestReload();
+  /// Runs a cycle now, on the io_context thread (a Modbus master completed a position set with
+  /// cycle_trigger "write"); the period timer then runs one only when no such event came for a
+  /// period. Ignored before start() and after the loop finished.
+  void triggerCycle() { scheduler_.runNow(); }
   /// Overrides kReloadTimeout (tests).
   void setReloadTimeout(std::chrono::steady_clock::duration timeout) { reloadTimeout_ = timeout; }
 

@@ -34,6 +34,10 @@ class PeriodicScheduler {
   /// Runs the first cycle at once (as soon as the io_context runs), then one every period.
   void start();
   void stop();
+  /// Runs a cycle now (an event drove it: the Modbus server's master completed a position set)
+  /// and counts the next period from now, so that the timer only runs a cycle when no event came
+  /// for a whole period. Ignored when not running.
+  void runNow();
   bool running() const noexcept { return running_; }
 
   std::uint64_t cycles() const noexcept { return cycles_; }

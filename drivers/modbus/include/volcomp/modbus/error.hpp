@@ -31,6 +31,8 @@ enum class Errc {
   // Codec.
   value_not_finite,    ///< a float input register held NaN or infinity, or an output was NaN
   value_out_of_range,  ///< an output does not fit its register type (nothing was written)
+  // Server role.
+  no_master_write,  ///< the master has not yet written a complete position set
 };
 
 const std::error_category& modbusCategory() noexcept;

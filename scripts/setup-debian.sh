@@ -15,6 +15,8 @@ packages=(
   libjs-vega
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev socat python3 systemd
+  # an independent Modbus master driving the server role (tests/e2e/modbus_server_e2e_test.cpp)
+  mbpoll
   # the report opened in a headless browser
   chromium
   # the platform's pacing baseline beside the daemon's latency figures (bench/daemon/run_latency.sh)

@@ -22,3 +22,17 @@ add_dependencies(volcomp_e2e_process_tests volcompd volcomp-sim)
 gtest_discover_tests(volcomp_e2e_process_tests
   PROPERTIES LABELS modbus TIMEOUT 60 RUN_SERIAL TRUE
   DISCOVERY_TIMEOUT 30)
+
+# The Modbus server role: volcompd as a process driven by libmodbus' client and mbpoll over TCP
+# and RTU (pseudo-terminals); label modbus.
+add_executable(volcomp_e2e_server_tests modbus_server_e2e_test.cpp)
+target_link_libraries(volcomp_e2e_server_tests PRIVATE volcomp::daemon PkgConfig::MODBUS
+                      nlohmann_json::nlohmann_json volcomp_testutil volcomp_warnings)
+target_compile_definitions(volcomp_e2e_server_tests PRIVATE
+  VOLCOMP_SIM_PATH="$<TARGET_FILE:volcomp-sim>"
+  VOLCOMPD_PATH="$<TARGET_FILE:volcompd>"
+  VOLCOMP_EXAMPLES_DIR="${PROJECT_SOURCE_DIR}/config/examples")
+add_dependencies(volcomp_e2e_server_tests volcompd)
+gtest_discover_tests(volcomp_e2e_server_tests
+  PROPERTIES LABELS modbus TIMEOUT 60 RUN_SERIAL TRUE
+  DISCOVERY_TIMEOUT 30)

@@ -305,6 +305,27 @@ std::vector<long> mbpollValues(const std::string& output) {
   return values;
 }
 
+/// Reads the output block with one mbpoll run (`args` end with the device or host), appends the
+/// read to `reads`; true when every offset is within 1.5 counts of `expected` and ACTIVE is set.
+bool mbpollReadReaches(const std::vector<std::string>& args, const std::array<double, 3>& expected,
+                       std::vector<MasterRead>& reads, std::string& out) {
+  if (mbpoll(args, out) != 0) return false;
+  const auto v = mbpollValues(out);
+  if (v.size() != 8) return false;
+  MasterRead r;
+  r.tS = steadySeconds();
+  std::array<std::uint16_t, 8> regs{};
+  for (std::size_t i = 0; i < 8; ++i) regs[i] = static_cast<std::uint16_t>(v[i]);
+  for (std::size_t k = 0; k < 3; ++k) r.offsetMm[k] = int32Mm(&regs[2 * k]);
+  r.status = regs[6];
+  r.heartbeat = regs[7];
+  reads.push_back(r);
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (std::abs(r.offsetMm[k] - expected[k]) > 1.5 * kQuantumMm) return false;
+  }
+  return (r.status & kActive) != 0;
+}
+
 /// The input block as mbpoll arguments: positions in counts (32-bit, big-endian words), then
 /// flags (16-bit) in a second call.
 std::vector<std::string> positionCounts(const std::array<double, 3>& q) {
@@ -344,21 +365,8 @@ TEST_F(ModbusServerTest, MbpollDrivesTheServerOverTcp) {
   // Read the offsets until they have ramped to the model's (a few hundred ms at max_rate).
   const bool reached = testutil::waitUntil(
       [&] {
-        if (mbpoll(with({"-1", "-r", "14", "-c", "8", "-t", "4"}, {}), out) != 0) return false;
-        const auto v = mbpollValues(out);
-        if (v.size() != 8) return false;
-        MasterRead r;
-        r.tS = steadySeconds();
-        std::array<std::uint16_t, 8> regs{};
-        for (std::size_t i = 0; i < 8; ++i) regs[i] = static_cast<std::uint16_t>(v[i]);
-        for (std::size_t k = 0; k < 3; ++k) r.offsetMm[k] = int32Mm(&regs[2 * k]);
-        r.status = regs[6];
-        r.heartbeat = regs[7];
-        reads.push_back(r);
-        for (std::size_t k = 0; k < 3; ++k) {
-          if (std::abs(r.offsetMm[k] - expected[k]) > 1.5 * kQuantumMm) return false;
-        }
-        return (r.status & kActive) != 0;
+        return mbpollReadReaches(with({"-1", "-r", "14", "-c", "8", "-t", "4"}, {}), expected,
+                                 reads, out);
       },
       15s);
   ASSERT_TRUE(reached) << out << "\n" << daemonLog();
@@ -437,20 +445,8 @@ TEST_F(ModbusServerTest, MbpollOverRtuThroughAPtyPair) {
         if (mbpoll(with({"-1", "-r", "0", "-t", "4:int", "-B"}, positionCounts(kTo)), out) != 0) {
           return false;
         }
-        if (mbpoll(with({"-1", "-r", "14", "-c", "8", "-t", "4"}, {}), out) != 0) return false;
-        const auto v = mbpollValues(out);
-        if (v.size() != 8) return false;
-        MasterRead r;
-        r.tS = steadySeconds();
-        std::array<std::uint16_t, 8> regs{};
-        for (std::size_t i = 0; i < 8; ++i) regs[i] = static_cast<std::uint16_t>(v[i]);
-        for (std::size_t k = 0; k < 3; ++k) r.offsetMm[k] = int32Mm(&regs[2 * k]);
-        r.status = regs[6];
-        reads.push_back(r);
-        for (std::size_t k = 0; k < 3; ++k) {
-          if (std::abs(r.offsetMm[k] - expected[k]) > 1.5 * kQuantumMm) return false;
-        }
-        return (r.status & kActive) != 0;
+        return mbpollReadReaches(with({"-1", "-r", "14", "-c", "8", "-t", "4"}, {}), expected,
+                                 reads, out);
       },
       20s);
   ASSERT_TRUE(reached) << out << "\n" << daemonLog();

@@ -9,6 +9,7 @@
 ///     "host": "127.0.0.1", "port": 502,                       (tcp)
 ///     "device": "/dev/ttyUSB0", "baud": 115200, "parity": "N"|"E"|"O",
 ///     "data_bits": 8, "stop_bits": 1,                         (rtu; baud..stop_bits optional)
+///     "role": "client" | "server",             optional, default "client"
 ///     "slave_id": 1,                          optional, default 1 (tcp: 255 is common)
 ///     "response_timeout_ms": 50,              optional, per transaction
 ///     "link_loss_timeouts": 3,                optional: consecutive timeouts that mean link lost
@@ -25,8 +26,13 @@
 ///       "status": 106, "heartbeat": 107                             outputs (holding, uint16)
 ///     }
 ///   }
-/// where VALUE = {"address": A, "table"?, "type"?, "order"?, "counts_per_mm"?, "sign"?} and the
-/// optional fields come from "defaults". Addresses are 0-based protocol addresses.
+/// Server role (volcompd holds the bank, the controller is the master): no "host" and no
+/// "link_loss_timeouts"; "port" may be 0 (any free port); optional "cycle_trigger": "write"
+/// (default) | "timer"; TCP only: "listen_address" (IPv4, default "127.0.0.1"), "allowed_clients"
+/// (array of IPv4 addresses, default any), "max_connections" (1..64, default 1). Every input must
+/// be a holding register and an applied-offset read-back must not be the offset outputs. where
+/// VALUE = {"address": A, "table"?, "type"?, "order"?, "counts_per_mm"?, "sign"?} and the optional
+/// fields come from "defaults". Addresses are 0-based protocol addresses.
 ///
 /// Layout rules (validated, so that the driver reads all inputs with one FC03 and/or one FC04 and
 /// writes all outputs with one FC16, as the daemon's cycle requires):

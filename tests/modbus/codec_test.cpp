@@ -190,5 +190,28 @@ TEST(Codec, NotFiniteIsRejectedBothWays) {
             CodecStatus::NotFinite);
 }
 
+// Fuzz finding (modbus_registers): a finite count that the scale makes infinite was decoded as
+// Ok with an infinite length. Any positive counts_per_mm is accepted, so every type can overflow.
+TEST(Codec, ValueTheScaleMakesInfiniteIsNotFinite) {
+  const Regs one{0x0000, 0x0001, 0x0000, 0x0000};
+  const Regs maxInt32{0x7FFF, 0xFFFF, 0x0000, 0x0000};  // 2147483647 counts / 1e-300 > DBL_MAX
+  double v = 0.0;
+  EXPECT_EQ(decode(maxInt32, {RegisterType::Int32, WordOrder::ABCD, 1e-300, 1}, v),
+            CodecStatus::NotFinite);
+  EXPECT_TRUE(std::isnan(v));
+  const Regs big32{0x7F7F, 0xFFFF, 0, 0};  // FLT_MAX
+  EXPECT_EQ(decode(big32, {RegisterType::Float32, WordOrder::ABCD, 1e-300, -1}, v),
+            CodecStatus::NotFinite);
+  const Regs big64{0x7FEF, 0xFFFF, 0xFFFF, 0xFFFF};  // DBL_MAX
+  EXPECT_EQ(decode(big64, {RegisterType::Float64, WordOrder::ABCD, 0.5, 1}, v),
+            CodecStatus::NotFinite);
+  // Zero stays zero at any scale, and a large but finite result is still a value.
+  const Regs zero{0, 0, 0, 0};
+  EXPECT_EQ(decode(zero, {RegisterType::Int32, WordOrder::ABCD, 1e-300, 1}, v), CodecStatus::Ok);
+  EXPECT_EQ(v, 0.0);
+  EXPECT_EQ(decode(one, {RegisterType::Int32, WordOrder::ABCD, 1e-3, 1}, v), CodecStatus::Ok);
+  EXPECT_EQ(v, 1000.0);
+}
+
 }  // namespace
 }  // namespace volcomp::modbus

@@ -115,11 +115,14 @@ CodecStatus decode(std::span<const std::uint16_t> src, const ValueFormat& format
       raw = std::bit_cast<double>(bits);
       break;
   }
-  if (!std::isfinite(raw)) {
+  // The scale can overflow a finite raw value too (any positive counts_per_mm is accepted, and
+  // 1e-300 counts per mm turns every non-zero count into infinity): not finite either way.
+  const double scaled = raw / format.countsPerMm * static_cast<double>(format.sign);
+  if (!std::isfinite(scaled)) {
     mm = std::numeric_limits<double>::quiet_NaN();
     return CodecStatus::NotFinite;
   }
-  mm = raw / format.countsPerMm * static_cast<double>(format.sign);
+  mm = scaled;
   return CodecStatus::Ok;
 }
 

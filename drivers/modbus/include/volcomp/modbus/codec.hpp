@@ -35,7 +35,8 @@ std::uint64_t unpackBits(std::span<const std::uint16_t> src, int width, WordOrde
 CodecStatus encode(double mm, const ValueFormat& format, std::span<std::uint16_t> dest) noexcept;
 
 /// Decodes registerWidth(format.type) registers at the front of `src` into `mm`.
-/// Returns NotFinite (and leaves `mm` NaN) for a NaN or infinite float on the wire.
+/// Returns NotFinite (and leaves `mm` NaN) for a NaN or infinite float on the wire, and for a
+/// value the scale makes infinite (raw / countsPerMm overflowing a double).
 CodecStatus decode(std::span<const std::uint16_t> src, const ValueFormat& format,
                    double& mm) noexcept;
 

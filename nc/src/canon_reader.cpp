@@ -393,8 +393,10 @@ void CanonReader::motion(const Arguments& args, std::string_view name, long numb
     m.move.endMm[a2] = value(1) * unit + shift[a2];
     m.move.endMm[an] = value(5) * unit + shift[an];
     const double rotation = value(4);
-    if (rotation == 0.0 || rotation != std::floor(rotation)) {
-      fail(number, args.offsets[4], "ARC_FEED: rotation must be a non-zero whole number");
+    if (rotation == 0.0 || rotation != std::floor(rotation) || std::abs(rotation) > kMaxArcTurns) {
+      fail(number, args.offsets[4],
+           "ARC_FEED: rotation must be a non-zero whole number of at most " +
+               std::to_string(kMaxArcTurns) + " turns");
     }
     if (m.startKnown) {
       m.move.arc = makeArc(plane_, m.move.startMm, m.move.endMm, value(2) * unit + shift[a1],

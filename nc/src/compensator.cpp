@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
+#include <string>
 
 #include "volcomp/nc/nc_error.hpp"
 #include "volcomp/nc/numbers.hpp"
@@ -20,6 +22,10 @@ using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
 constexpr int kMaxRefineDepth = 12;
 constexpr double kMinPieceMm = 1e-7;
+// Check points one move may need (its length over the check step, arcs split for their sagitta):
+// a move of 100 m at the smallest default step. Beyond it a program is almost certainly in the
+// wrong units or garbled, and planning it would take minutes and gigabytes.
+constexpr double kMaxCheckPointsPerMove = 1e6;
 
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -91,6 +97,7 @@ struct Compensator::Impl {
   CompensateOptions options;
   double tolerance;
   double checkStep = 1.0;
+  std::string file;  ///< the program, for messages
   std::uint8_t bidirectional = 0;
   NcReport report;
 
@@ -220,6 +227,25 @@ struct Compensator::Impl {
     }
   }
 
+  /// Throws NcError for a move that would need more than kMaxCheckPointsPerMove check points.
+  void refuseOversized(const MotionWork& w) const {
+    const Move& m = w.move;
+    double needed = m.lengthMm() / checkStep;
+    if (m.kind == MoveKind::Arc) {
+      const double radius = std::max(m.arc.startRadius, m.arc.endRadius);
+      if (radius > 0.5 * tolerance) {
+        needed += 2.0 * std::abs(m.arc.sweep) / (2.0 * std::acos(1.0 - 0.5 * tolerance / radius));
+      }
+    }
+    if (needed <= kMaxCheckPointsPerMove) return;  // also refuses NaN
+    std::ostringstream message;
+    message << "a move of " << m.lengthMm() << " mm needs about " << needed
+            << " check points at the check step of " << checkStep << " mm, more than the "
+            << kMaxCheckPointsPerMove
+            << " one move may have (is the program in the machine's units?)";
+    throw NcError(file, w.line, 0, message.str());
+  }
+
   std::uint32_t addSolve(const Vec3& q, const Directions& d, long line) {
     solveQ.push_back(q);
     solveDirs.push_back(d);
@@ -258,6 +284,7 @@ struct Compensator::Impl {
       return;
     }
     p.split = true;
+    refuseOversized(w);
     boundaries.clear();
     boundaries.push_back(0.0);
     if (m.kind == MoveKind::Line) {
@@ -741,6 +768,7 @@ NcReport Compensator::run(ProgramReader& reader, TextSource& source, TextSink& s
   const auto start = Clock::now();
   NcReport& r = s.report;
   r.format = reader.formatName();
+  s.file = reader.file();
   r.toleranceMm = s.tolerance;
   r.checkStepMm = s.checkStep;
   s.out.clear();

@@ -446,8 +446,10 @@ bool NgcInterpreter::execute(const Block& block, NgcLine& out, LineError& error)
     }
     int turns = 1;
     if (const Word* p = word('P')) {
-      if (p->value < 1 || p->value != std::floor(p->value)) {
-        return failAt(error, *p, "P (turns of an arc) must be a whole number >= 1");
+      if (p->value < 1 || p->value > kMaxArcTurns || p->value != std::floor(p->value)) {
+        return failAt(
+            error, *p,
+            "P (turns of an arc) must be a whole number in 1.." + std::to_string(kMaxArcTurns));
       }
       turns = static_cast<int>(p->value);
     }

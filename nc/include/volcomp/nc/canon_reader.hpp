@@ -31,6 +31,7 @@ class CanonReader final : public ProgramReader {
  public:
   CanonReader(std::string file, std::optional<Vec3> startMm, Decimals decimals);
   const char* formatName() const noexcept override { return "canon"; }
+  const std::string& file() const noexcept override { return file_; }
   void header(std::string& out) override;
   void read(std::string_view line, std::string_view eol, long number, Chunk& chunk) override;
   void trailer(std::string& out) override;

@@ -17,6 +17,10 @@ using Vec3 = Eigen::Vector3d;
 
 enum class MoveKind : std::uint8_t { Rapid, Line, Arc };
 
+/// Most full turns one arc or helix may make (G2/G3 P, ARC_FEED rotation): far more than any
+/// real program, few enough that the turn count and the splitting stay within integers.
+inline constexpr int kMaxArcTurns = 10000;
+
 /// Arc geometry in machine coordinates. The plane is spanned by axes `first` and `second` (X, Y
 /// for G17; Z, X for G18; Y, Z for G19, as LinuxCNC's canonical ARC_FEED orders them); `normal` is
 /// the third axis. Angles are measured from `first` towards `second`; a positive sweep is

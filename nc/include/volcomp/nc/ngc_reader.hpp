@@ -20,6 +20,7 @@ class NgcReader final : public ProgramReader {
   NgcReader(std::string file, const WorkOffsets& offsets, const ToolTable& tools,
             std::optional<Vec3> startMm, Decimals decimals);
   const char* formatName() const noexcept override { return "ngc"; }
+  const std::string& file() const noexcept override { return file_; }
   void read(std::string_view line, std::string_view eol, long number, Chunk& chunk) override;
 
  private:

@@ -72,6 +72,8 @@ class ProgramReader {
  public:
   virtual ~ProgramReader() = default;
   virtual const char* formatName() const noexcept = 0;
+  /// The program's file name, for messages.
+  virtual const std::string& file() const noexcept = 0;
   /// Text written before the first line (with its line endings).
   virtual void header(std::string& /*out*/) {}
   virtual void read(std::string_view line, std::string_view eol, long number, Chunk& chunk) = 0;

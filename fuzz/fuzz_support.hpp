@@ -5,10 +5,12 @@
 // Any other exception escapes LLVMFuzzerTestOneInput and ends the run (libFuzzer reports it as a
 // crash): an input must never reach the user as "internal error".
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <string_view>
 
@@ -37,6 +39,27 @@ inline void checkMessage(const std::exception& e) {
 inline void require(bool condition, const char* what) {
   if (!condition) finding("broken invariant", what);
 }
+
+/// Reads typed values off the front of the fuzz input; past its end every value is zero, so any
+/// input is a complete one.
+class ByteReader {
+ public:
+  ByteReader(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+  template <typename T>
+  T take() {
+    T value{};
+    const std::size_t n = std::min(sizeof(T), size_ - pos_);
+    std::memcpy(&value, data_ + pos_, n);
+    pos_ += n;
+    return value;
+  }
+  std::size_t remaining() const { return size_ - pos_; }
+
+ private:
+  const std::uint8_t* data_;
+  std::size_t size_;
+  std::size_t pos_ = 0;
+};
 
 /// The fuzz input as text.
 inline std::string_view text(const std::uint8_t* data, std::size_t size) {

@@ -108,23 +108,28 @@ void Channel::receive() noexcept {
 }
 
 void Channel::handle(std::size_t bytes) noexcept {
+  deliverDatagram(rx_, bytes, fd_, receiver_);
+}
+
+void deliverDatagram(const canfd_frame& datagram, std::size_t bytes, bool fd,
+                     FrameReceiver& receiver) noexcept {
   Frame frame;
-  const canid_t id = rx_.can_id;
+  const canid_t id = datagram.can_id;
   if (bytes == CAN_MTU) {
-    if (rx_.len > kClassicMaxLength) return receiver_.onMalformed();
-  } else if (bytes == CANFD_MTU && fd_) {
-    if (!isValidLength(rx_.len, true)) return receiver_.onMalformed();
+    if (datagram.len > kClassicMaxLength) return receiver.onMalformed();
+  } else if (bytes == CANFD_MTU && fd) {
+    if (!isValidLength(datagram.len, true)) return receiver.onMalformed();
     frame.fd = true;
   } else {
-    return receiver_.onMalformed();
+    return receiver.onMalformed();
   }
   frame.extended = (id & CAN_EFF_FLAG) != 0;
   frame.id = frame.extended ? (id & CAN_EFF_MASK) : (id & CAN_SFF_MASK);
-  frame.length = rx_.len;
-  std::memcpy(frame.data.data(), rx_.data, rx_.len);
-  if ((id & CAN_ERR_FLAG) != 0) return receiver_.onErrorFrame(id & CAN_ERR_MASK, frame);
-  if ((id & CAN_RTR_FLAG) != 0) return receiver_.onMalformed();
-  receiver_.onFrame(frame);
+  frame.length = datagram.len;
+  std::memcpy(frame.data.data(), datagram.data, datagram.len);
+  if ((id & CAN_ERR_FLAG) != 0) return receiver.onErrorFrame(id & CAN_ERR_MASK, frame);
+  if ((id & CAN_RTR_FLAG) != 0) return receiver.onMalformed();
+  receiver.onFrame(frame);
 }
 
 }  // namespace volcomp::can

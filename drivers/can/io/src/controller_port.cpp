@@ -196,6 +196,10 @@ std::error_code CanControllerPort::write(const loop::OffsetCommand& command) noe
   return result;
 }
 
+void CanControllerPort::receive(const canfd_frame& datagram, std::size_t bytes) noexcept {
+  deliverDatagram(datagram, bytes, layout_.fd, *this);
+}
+
 void CanControllerPort::onFrame(const Frame& frame) noexcept {
   std::size_t slotIndex = 0;
   while (slotIndex < slots_.size() && (layout_.inputFrames[slotIndex].id != frame.id ||

@@ -3,6 +3,7 @@
 /// asynchronous receive pending (no thread of its own: frames are handled whenever the owner runs
 /// or polls the io_context), and sends frames without ever blocking.
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -35,6 +36,14 @@ class FrameReceiver {
 /// ENODEV, ENXIO) -> std::errc::network_down; transmit queue full (ENOBUFS, EAGAIN) ->
 /// Errc::TxDropped; anything else unchanged.
 std::error_code mapSocketError(std::error_code ec) noexcept;
+
+/// What one datagram of a raw CAN socket is, handed to `receiver`: `bytes` is what the receive
+/// returned (CAN_MTU for a classical frame, CANFD_MTU for an FD frame when `fd`), `datagram` its
+/// contents. Error frames go to onErrorFrame; remote requests, payload lengths the size does not
+/// allow and any other size to onMalformed; the rest, well formed, to onFrame. noexcept and
+/// allocation-free; what Channel does with every receive (and what the fuzz target feeds).
+void deliverDatagram(const canfd_frame& datagram, std::size_t bytes, bool fd,
+                     FrameReceiver& receiver) noexcept;
 
 class Channel {
  public:

@@ -64,6 +64,10 @@ class CanControllerPort final : public loop::ControllerPort, private FrameReceiv
   std::error_code read(loop::AxisSample& out) noexcept override;
   std::error_code write(const loop::OffsetCommand& command) noexcept override;
 
+  /// Takes one datagram as if the socket had received it (deliverDatagram with the layout's FD
+  /// setting): how the fuzz target and tests feed frames without a CAN interface.
+  void receive(const canfd_frame& datagram, std::size_t bytes) noexcept;
+
   const CanStats& stats() const noexcept { return stats_; }
   BusState busState() const noexcept { return busState_; }
   /// The socket error that last ended the link (for the log line), empty before any.

@@ -13,12 +13,14 @@ args=(-max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb
 if [ -f "$dict" ]; then args+=(-dict="$dict"); fi
 log="$work/$name.log"
 status=0
+start=$(date +%s)
 "$binary" "${args[@]}" "$work/corpus/$name" "$@" >"$log" 2>&1 || status=$?
+elapsed=$(($(date +%s) - start))
 
 stat() { grep -o "stat::$1: *[0-9]*" "$log" | tail -n 1 | grep -o '[0-9]*$' || echo "?"; }
 coverage=$(grep -o 'cov: [0-9]* ft: [0-9]*' "$log" | tail -n 1 || true)
 corpus=$(find "$work/corpus/$name" "$@" -type f | wc -l)
-line="fuzz $name: $(stat number_of_executed_units) runs in ${seconds} s ($(stat average_exec_per_sec)/s), ${coverage:-cov: ?}, corpus $corpus, peak RSS $(stat peak_rss_mb) MB"
+line="fuzz $name: $(stat number_of_executed_units) runs in ${elapsed} s ($(stat average_exec_per_sec)/s), ${coverage:-cov: ?}, corpus $corpus, peak RSS $(stat peak_rss_mb) MB"
 echo "$line" | tee -a "$work/summary.txt"
 if [ "$status" -ne 0 ]; then
   tail -n 80 "$log"

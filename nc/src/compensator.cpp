@@ -22,10 +22,6 @@ using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
 constexpr int kMaxRefineDepth = 12;
 constexpr double kMinPieceMm = 1e-7;
-// Check points one move may need (its length over the check step, arcs split for their sagitta):
-// a move of 100 m at the smallest default step. Beyond it a program is almost certainly in the
-// wrong units or garbled, and planning it would take minutes and gigabytes.
-constexpr double kMaxCheckPointsPerMove = 1e6;
 
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -227,7 +223,7 @@ struct Compensator::Impl {
     }
   }
 
-  /// Throws NcError for a move that would need more than kMaxCheckPointsPerMove check points.
+  /// Throws NcError for a move that would need more than options.maxCheckPointsPerMove.
   void refuseOversized(const MotionWork& w) const {
     const Move& m = w.move;
     double needed = m.lengthMm() / checkStep;
@@ -237,11 +233,12 @@ struct Compensator::Impl {
         needed += 2.0 * std::abs(m.arc.sweep) / (2.0 * std::acos(1.0 - 0.5 * tolerance / radius));
       }
     }
-    if (needed <= kMaxCheckPointsPerMove) return;  // also refuses NaN
+    const double most = static_cast<double>(options.maxCheckPointsPerMove);
+    if (needed <= most) return;  // also refuses NaN
     std::ostringstream message;
     message << "a move of " << m.lengthMm() << " mm needs about " << needed
             << " check points at the check step of " << checkStep << " mm, more than the "
-            << kMaxCheckPointsPerMove
+            << options.maxCheckPointsPerMove
             << " one move may have (is the program in the machine's units?)";
     throw NcError(file, w.line, 0, message.str());
   }

@@ -39,6 +39,11 @@ struct CompensateOptions {
   double checkStepMm = 0.0;
   /// Lines per chunk (the unit of streaming and of batched offset solves).
   std::size_t chunkLines = 4096;
+  /// Check points one move may need (its length over the check step, plus the pieces an arc is
+  /// split into for its sagitta); a move needing more is refused (NcError at its line). The
+  /// default is a 100 m move at the smallest default check step: beyond it a program is almost
+  /// certainly in the wrong units or garbled, and planning it would take minutes and gigabytes.
+  std::size_t maxCheckPointsPerMove = 1000000;
 };
 
 /// Decimals to write so that rounding moves a point by at most tolerance / 50 (3 .. 9 for mm,

@@ -4,6 +4,8 @@
 # its committed corpus and regression inputs, and prints the line and branch coverage of the
 # parser sources each target is for. Not part of the test command; needs clang and llvm.
 # Usage: scripts/fuzz-coverage.sh [TARGET...]   (default: every target below)
+# With FUZZ_CORPUS_DIR set (e.g. build-sanitize/fuzz/corpus after a fuzz run), the inputs a fuzz
+# run added (FUZZ_CORPUS_DIR/TARGET) are run too: the coverage fuzzing reached, not only the seeds.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${COVERAGE_BUILD_DIR:-$here/build-coverage}"
@@ -14,6 +16,12 @@ declare -A sources=(
   [measurements_csv]="calibration/src/measurements_csv.cpp config/src/text_input.cpp"
   [iso230_2_csv]="metrology/src/positioning_runs_csv.cpp metrology/src/iso230_2.cpp metrology/src/iso230_2_json.cpp"
   [points_csv]="tools/cli/points_csv.cpp tools/cli/cli_support.cpp config/src/text_input.cpp"
+  [daemon_config]="config/src/daemon_config.cpp config/src/transport_config.cpp config/src/transport_limits.cpp config/src/modbus_config.cpp config/src/can_section.cpp config/src/can_layout.cpp config/src/linuxcnc_config.cpp"
+  [dbc]="config/src/dbc_file.cpp drivers/can/src/dbc.cpp drivers/can/src/signal.cpp"
+  [modbus_registers]="drivers/modbus/src/codec.cpp drivers/modbus/src/register_plan.cpp config/src/modbus_config.cpp"
+  [can_frames]="drivers/can/io/src/channel.cpp drivers/can/io/src/controller_port.cpp drivers/can/src/signal.cpp"
+  [ngc]="nc/src/block.cpp nc/src/numbers.cpp nc/src/ngc_interpreter.cpp nc/src/ngc_reader.cpp nc/src/move.cpp nc/src/compensator.cpp"
+  [canon]="nc/src/canon_reader.cpp nc/src/numbers.cpp nc/src/move.cpp nc/src/compensator.cpp"
 )
 targets=("$@")
 if [ "${#targets[@]}" -eq 0 ]; then targets=("${!sources[@]}"); fi
@@ -26,6 +34,9 @@ for t in "${targets[@]}"; do
   binary="$build/fuzz/volcomp_fuzz_$t"
   dirs=("$here/fuzz/corpus/$t")
   if [ -d "$here/fuzz/regressions/$t" ]; then dirs+=("$here/fuzz/regressions/$t"); fi
+  if [ -n "${FUZZ_CORPUS_DIR:-}" ] && [ -d "$FUZZ_CORPUS_DIR/$t" ]; then
+    dirs+=("$FUZZ_CORPUS_DIR/$t")
+  fi
   rm -f "$build/$t".profraw
   LLVM_PROFILE_FILE="$build/$t.profraw" "$binary" "${dirs[@]}" >/dev/null 2>&1
   llvm-profdata merge -sparse "$build/$t.profraw" -o "$build/$t.profdata"

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <optional>
 
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/config/printable.hpp"
@@ -37,6 +38,41 @@ std::string asciiUnit(std::string unit) {
   return unit;
 }
 
+// The units CSV files from instruments and spreadsheets carry, beyond the model file's mm, um, nm.
+std::optional<double> csvLengthUnitToMm(const std::string& unit) {
+  if (unit == "micron" || unit == "microns") return 1e-3;
+  if (unit == "m") return 1e3;
+  if (unit == "in" || unit == "inch") return 25.4;
+  return lengthUnitFactor(unit);
+}
+
+struct HeaderName {
+  std::string name;  ///< lower case, blanks and hyphens as '_'
+  std::string unit;  ///< from "name [unit]" or "name (unit)", µ as u; empty otherwise
+};
+
+std::string normalisedName(std::string_view text) {
+  std::string name = lower(trimmed(text));
+  for (char& c : name) {
+    if (c == ' ' || c == '\t' || c == '-') c = '_';
+  }
+  while (!name.empty() && (name.back() == '_' || name.back() == '/')) name.pop_back();
+  return name;
+}
+
+HeaderName splitHeaderName(std::string_view written) {
+  const std::string_view text = trimmed(written);
+  const char close = text.empty() ? '\0' : text.back();
+  if (close == ']' || close == ')') {
+    const std::size_t open = text.rfind(close == ']' ? '[' : '(');
+    if (open != std::string_view::npos) {
+      return {normalisedName(text.substr(0, open)),
+              asciiUnit(lower(trimmed(text.substr(open + 1, text.size() - open - 2))))};
+    }
+  }
+  return {normalisedName(text), {}};
+}
+
 std::string expectedColumns(const CsvSchema& schema) {
   std::string required, optional;
   for (const CsvColumn& c : schema.columns) {
@@ -57,13 +93,21 @@ std::string expectedColumns(const CsvSchema& schema) {
 
 CsvSchema& CsvSchema::add(std::initializer_list<const char*> names, CsvQuantity quantity,
                           bool required) {
-  for (const char* name : names) columns.push_back({name, quantity, required});
+  for (const char* name : names) columns.push_back({name, quantity, required, {}});
   return *this;
 }
 
 CsvSchema& CsvSchema::addGroup(std::initializer_list<const char*> names, CsvQuantity quantity) {
   add(names, quantity, false);
   groups.emplace_back(names.begin(), names.end());
+  return *this;
+}
+
+CsvSchema& CsvSchema::alias(const char* name, std::initializer_list<const char*> aliases) {
+  for (CsvColumn& column : columns) {
+    if (column.name == name)
+      column.aliases.insert(column.aliases.end(), aliases.begin(), aliases.end());
+  }
   return *this;
 }
 
@@ -147,7 +191,7 @@ void CsvReader::splitCurrent() {
         }
         value += line[cursor++];
       }
-      const std::size_t comma = line.find(',', cursor);
+      const std::size_t comma = line.find(delimiter_, cursor);
       if (!trimmed(line.substr(cursor, comma - cursor)).empty()) {
         fail("unexpected text after a quoted field");
       }
@@ -157,76 +201,116 @@ void CsvReader::splitCurrent() {
       start = comma + 1;
       continue;
     }
-    const std::size_t comma = line.find(',', start);
+    const std::size_t comma = line.find(delimiter_, start);
     fields_.push_back(trimmed(line.substr(start, comma - start)));
     if (comma == std::string_view::npos) break;
     start = comma + 1;
   }
 }
 
+void CsvReader::bindHeaderField(std::size_t column, std::vector<std::string>& seen) {
+  Bound bound;
+  bound.written = std::string(fields_[column]);
+  const HeaderName header = splitHeaderName(bound.written);
+  const auto known = [&](const std::string& name) {
+    for (std::size_t s = 0; s < schema_.columns.size(); ++s) {
+      const CsvColumn& candidate = schema_.columns[s];
+      if (candidate.name == name || std::find(candidate.aliases.begin(), candidate.aliases.end(),
+                                              name) != candidate.aliases.end()) {
+        return static_cast<int>(s);
+      }
+    }
+    return -1;
+  };
+  const auto ignored = [&](const std::string& name) {
+    return std::find(schema_.ignored.begin(), schema_.ignored.end(), name) != schema_.ignored.end();
+  };
+  // A whole name the schema knows takes precedence over reading its end as a unit suffix.
+  std::string base = header.name, unit = header.unit;
+  bool suffix = false;
+  int index = known(base);
+  if (index < 0 && !ignored(base) && unit.empty()) {
+    const auto cut = base.find_last_of("_/");
+    if (cut != std::string::npos) {
+      unit = asciiUnit(base.substr(cut + 1));
+      base.resize(cut);
+      suffix = true;
+      index = known(base);
+    }
+  }
+  const std::string where = lineKey(line_) + ", column " + bound.written;
+  const auto other = [&] {
+    if (!schema_.acceptOtherColumns) {
+      throw ConfigError(file_, lineKey(line_),
+                        "unknown column " + config::quoted(bound.written) + " (" +
+                            expectedColumns(schema_) + ")");
+    }
+    if (!bound.written.empty()) other_.push_back(bound.written);
+    header_.push_back(std::move(bound));
+  };
+  if (index < 0 && !ignored(base)) return other();
+  if (index >= 0) {
+    const CsvColumn& schemaColumn = schema_.columns[static_cast<std::size_t>(index)];
+    std::optional<double> factor = 1.0;
+    if (unit.empty()) {
+      if (schemaColumn.quantity == CsvQuantity::Length && schema_.lengthUnitRequired) {
+        throw ConfigError(file_, where,
+                          "a length column needs its unit in the header, e.g. \"" +
+                              schemaColumn.name + "_mm\" (units: nm, um, mm, m, in)");
+      }
+    } else if (schemaColumn.quantity == CsvQuantity::Length) {
+      factor = csvLengthUnitToMm(unit);
+    } else if (schemaColumn.quantity == CsvQuantity::Angle) {
+      factor = angleUnitFactor(unit);
+    } else {
+      factor = std::nullopt;
+    }
+    // With other columns accepted, a name with an unknown suffix (temp_c) is another column.
+    if (!factor && suffix && schema_.acceptOtherColumns) return other();
+    if (!factor) {
+      switch (schemaColumn.quantity) {
+        case CsvQuantity::Length:
+          throw ConfigError(file_, where,
+                            "expected a length unit \"mm\", \"um\", \"nm\", \"m\" or \"in\", got " +
+                                config::quoted(unit));
+        case CsvQuantity::Angle:
+          angleUnitToRad(unit, file_, where);  // throws, naming the units
+          break;
+        case CsvQuantity::Number:
+        case CsvQuantity::Direction:
+        case CsvQuantity::Text:
+          break;
+      }
+      throw ConfigError(file_, where, "column \"" + schemaColumn.name + "\" takes no unit suffix");
+    }
+    base = schemaColumn.name;
+    bound.factor = *factor;
+    bound.schemaIndex = index;
+    columnOfSchema_[static_cast<std::size_t>(index)] = static_cast<int>(column);
+  }
+  if (std::find(seen.begin(), seen.end(), base) != seen.end()) {
+    throw ConfigError(file_, lineKey(line_), "column " + config::quoted(base) + " appears twice");
+  }
+  seen.push_back(base);
+  header_.push_back(std::move(bound));
+}
+
 void CsvReader::readHeader() {
-  const std::string expected = expectedColumns(schema_);
-  if (!readLine())
-    throw ConfigError(file_, "", "empty file: expected a header line (" + expected + ")");
+  if (!readLine()) {
+    throw CsvNoHeader(file_, "",
+                      "empty file: expected a header line (" + expectedColumns(schema_) + ")");
+  }
+  // Semicolon-separated exports come from locales that write a decimal comma.
+  const std::string_view header(text_);
+  if (header.find(';') != std::string_view::npos && header.find(',') == std::string_view::npos) {
+    delimiter_ = ';';
+    decimalComma_ = true;
+  }
   splitCurrent();
   columnOfSchema_.assign(schema_.columns.size(), -1);
   std::vector<std::string> seen;
-  for (std::size_t c = 0; c < fields_.size(); ++c) {
-    const std::string written(fields_[c]);
-    const std::string name = lower(written);
-    Bound bound;
-    bound.written = written;
-    std::string base = name, unit;
-    // Known names take precedence over a suffix reading (no schema name holds '_' today, but a
-    // future one might).
-    const auto known = [&](const std::string& candidate) {
-      for (std::size_t s = 0; s < schema_.columns.size(); ++s) {
-        if (schema_.columns[s].name == candidate) return static_cast<int>(s);
-      }
-      return -1;
-    };
-    int index = known(name);
-    const bool ignored =
-        std::find(schema_.ignored.begin(), schema_.ignored.end(), name) != schema_.ignored.end();
-    if (index < 0 && !ignored) {
-      const auto underscore = name.rfind('_');
-      if (underscore != std::string::npos) {
-        base = name.substr(0, underscore);
-        unit = asciiUnit(name.substr(underscore + 1));
-        index = known(base);
-      }
-    }
-    const bool ignoredBase =
-        std::find(schema_.ignored.begin(), schema_.ignored.end(), base) != schema_.ignored.end();
-    if (index < 0 && !ignored && !ignoredBase) {
-      throw ConfigError(file_, lineKey(line_),
-                        "unknown column " + config::quoted(written) + " (" + expected + ")");
-    }
-    if (std::find(seen.begin(), seen.end(), base) != seen.end()) {
-      throw ConfigError(file_, lineKey(line_), "column " + config::quoted(base) + " appears twice");
-    }
-    seen.push_back(base);
-    if (index >= 0) {
-      const CsvColumn& column = schema_.columns[static_cast<std::size_t>(index)];
-      const std::string where = lineKey(line_) + ", column " + written;
-      if (!unit.empty()) {
-        switch (column.quantity) {
-          case CsvQuantity::Length:
-            bound.factor = lengthUnitToMm(unit, file_, where);
-            break;
-          case CsvQuantity::Angle:
-            bound.factor = angleUnitToRad(unit, file_, where);
-            break;
-          case CsvQuantity::Number:
-          case CsvQuantity::Direction:
-            throw ConfigError(file_, where, "column \"" + base + "\" takes no unit suffix");
-        }
-      }
-      bound.schemaIndex = index;
-      columnOfSchema_[static_cast<std::size_t>(index)] = static_cast<int>(c);
-    }
-    header_.push_back(std::move(bound));
-  }
+  for (std::size_t c = 0; c < fields_.size(); ++c) bindHeaderField(c, seen);
+  const std::string expected = expectedColumns(schema_);
   for (std::size_t s = 0; s < schema_.columns.size(); ++s) {
     if (schema_.columns[s].required && columnOfSchema_[s] < 0) {
       throw ConfigError(file_, lineKey(line_),
@@ -265,14 +349,18 @@ const std::string& CsvReader::headerName(int column) const {
 
 std::string CsvReader::headerText() const {
   std::string text;
-  for (const Bound& b : header_) text += (text.empty() ? "" : ",") + b.written;
+  for (const Bound& b : header_) {
+    if (!text.empty()) text += delimiter_;
+    text += b.written;
+  }
   return text;
 }
 
 bool CsvReader::next() {
   if (!readLine()) return false;
   splitCurrent();
-  if (fields_.size() != header_.size()) {
+  if (fields_.size() < header_.size() ||
+      (fields_.size() > header_.size() && !schema_.acceptOtherColumns)) {
     fail("expected " + std::to_string(header_.size()) + " fields (" + headerText() + "), got " +
          std::to_string(fields_.size()));
   }
@@ -284,14 +372,20 @@ std::string_view CsvReader::field(int column) const {
 }
 
 double CsvReader::number(int column) const {
-  const std::string_view text = field(column);
+  std::string_view text = field(column);
+  std::string pointed;
+  if (decimalComma_ && text.find(',') != std::string_view::npos) {
+    pointed.assign(text);
+    std::replace(pointed.begin(), pointed.end(), ',', '.');
+    text = pointed;
+  }
   const char* begin = text.data();
   const char* end = text.data() + text.size();
   if (begin != end && *begin == '+') ++begin;
   double value = 0.0;
   const auto [pointer, error] = std::from_chars(begin, end, value);
   if (text.empty() || error != std::errc() || pointer != end || !std::isfinite(value)) {
-    fail(column, "expected a finite number, got " + config::quoted(text));
+    fail(column, "expected a finite number, got " + config::quoted(field(column)));
   }
   return value * header_[static_cast<std::size_t>(column)].factor;
 }

@@ -152,5 +152,112 @@ TEST(CsvReader, MissingFile) {
   }
 }
 
+// The unit may be written in the header as name_unit, "name [unit]", "name (unit)" or
+// "name unit", for every schema; blanks and hyphens inside a name read as '_'.
+TEST(CsvReader, UnitInTheHeaderInEveryForm) {
+  std::istringstream input(
+      "X [mm], y (\xC2\xB5m), z um, ea [deg], tx_in, ty (m), tz micron\n"
+      "1, 2, 3, 180, 1, 0.5, 7\n");
+  CsvReader csv(input, "in.csv", pointsSchema());
+  ASSERT_TRUE(csv.next());
+  EXPECT_EQ(csv.number("x"), 1.0);
+  EXPECT_DOUBLE_EQ(csv.number("y"), 0.002);
+  EXPECT_DOUBLE_EQ(csv.number("z"), 0.003);
+  EXPECT_DOUBLE_EQ(csv.number("ea"), std::numbers::pi);
+  EXPECT_DOUBLE_EQ(csv.number("tx"), 25.4);
+  EXPECT_DOUBLE_EQ(csv.number("ty"), 500.0);
+  EXPECT_DOUBLE_EQ(csv.number("tz"), 0.007);
+  std::istringstream badUnit("x [furlong],y,z\n");
+  try {
+    CsvReader bad(badUnit, "in.csv", pointsSchema());
+    ADD_FAILURE() << "furlong accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(),
+                 "in.csv: line 1, column x [furlong]: expected a length unit \"mm\", \"um\", "
+                 "\"nm\", \"m\" or \"in\", got \"furlong\"");
+  }
+  std::istringstream numberUnit("x,y,z,weight [kg]\n");
+  EXPECT_THROW(CsvReader(numberUnit, "in.csv", pointsSchema()), ConfigError);
+}
+
+TEST(CsvReader, SemicolonsWithDecimalCommas) {
+  std::istringstream input("x_mm;y;z;direction\n1,5;-2,25;3.5;\"+,-,+\"\n");
+  CsvReader csv(input, "in.csv", pointsSchema());
+  EXPECT_EQ(csv.headerText(), "x_mm;y;z;direction");
+  ASSERT_TRUE(csv.next());
+  EXPECT_EQ(csv.number("x"), 1.5);
+  EXPECT_EQ(csv.number("y"), -2.25);
+  EXPECT_EQ(csv.number("z"), 3.5);
+  EXPECT_EQ(csv.directions(csv.column("direction"))[1], model::Direction::Negative);
+  // A header with commas keeps commas as delimiters: "1,5" is then two fields.
+  EXPECT_NE(readError("x,y,z\n1;5,2,3\n").find("line 2, column x: expected a finite number"),
+            std::string::npos);
+  // The decimal comma is read only in semicolon files, and the message shows the field as written.
+  std::istringstream bad("x;y;z\n1,5;2;3,x\n");
+  CsvReader badCsv(bad, "in.csv", pointsSchema());
+  ASSERT_TRUE(badCsv.next());
+  try {
+    badCsv.number("z");
+    ADD_FAILURE() << "3,x read";
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "in.csv: line 2, column z: expected a finite number, got \"3,x\"");
+  }
+}
+
+CsvSchema instrumentSchema() {
+  CsvSchema schema;
+  schema.add({"target"}, CsvQuantity::Length)
+      .add({"run"}, CsvQuantity::Number)
+      .add({"label"}, CsvQuantity::Text)
+      .alias("target", {"nominal", "target_position"})
+      .alias("run", {"run_number", "cycle"});
+  schema.lengthUnitRequired = true;
+  schema.acceptOtherColumns = true;
+  return schema;
+}
+
+TEST(CsvReader, AliasesRequiredUnitsAndOtherColumns) {
+  std::istringstream input(
+      "Run Number, Nominal Position [mm], Temp_C, target-position_x, Label, \n"
+      "3, 12.5, 20.1, 9, first axis, , extra\n");
+  CsvReader csv(input, "in.csv", instrumentSchema());
+  EXPECT_EQ(csv.otherColumns(),
+            (std::vector<std::string>{"Nominal Position [mm]", "Temp_C", "target-position_x"}))
+      << "nominal_position is no alias, an unknown suffix makes another column";
+  EXPECT_FALSE(csv.has("target"));
+
+  std::istringstream aliased("cycle, Nominal (um), label\n2, 1500, a, b\n");
+  CsvReader ok(aliased, "in.csv", instrumentSchema());
+  EXPECT_TRUE(ok.otherColumns().empty());
+  ASSERT_TRUE(ok.next()) << "more fields than the header are other columns";
+  EXPECT_EQ(ok.number("run"), 2.0);
+  EXPECT_DOUBLE_EQ(ok.number("target"), 1.5);
+  EXPECT_EQ(ok.field(ok.column("label")), "a");
+  EXPECT_EQ(ok.headerName(ok.column("target")), "Nominal (um)");
+
+  const auto error = [](const std::string& text) -> std::string {
+    std::istringstream in(text);
+    try {
+      CsvReader reader(in, "in.csv", instrumentSchema());
+      while (reader.next()) reader.number("target");
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  EXPECT_EQ(error("run,target\n"),
+            "in.csv: line 1, column target: a length column needs its unit in the header, e.g. "
+            "\"target_mm\" (units: nm, um, mm, m, in)");
+  EXPECT_EQ(error("nominal_mm,target_position [um]\n"),
+            "in.csv: line 1: column \"target\" appears twice");
+  EXPECT_EQ(error("target [parsec]\n"),
+            "in.csv: line 1, column target [parsec]: expected a length unit \"mm\", \"um\", "
+            "\"nm\", \"m\" or \"in\", got \"parsec\"");
+  EXPECT_EQ(error("target_mm,run,label\n1,2\n"),
+            "in.csv: line 2: expected 3 fields (target_mm,run,label), got 2");
+  std::istringstream empty("# nothing\n\n");
+  EXPECT_THROW(CsvReader(empty, "in.csv", instrumentSchema()), CsvNoHeader);
+}
+
 }  // namespace
 }  // namespace volcomp::config

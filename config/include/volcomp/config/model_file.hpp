@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 
 #include <nlohmann/json.hpp>
@@ -82,5 +83,8 @@ const char* interpolationName(model::Interpolation interpolation) noexcept;
 /// rad. Throw ConfigError with the given file/path on an unknown name.
 double lengthUnitToMm(const std::string& unit, const std::string& file, const std::string& path);
 double angleUnitToRad(const std::string& unit, const std::string& file, const std::string& path);
+/// The same factors without throwing: nullopt for a name that is not one of those units.
+std::optional<double> lengthUnitFactor(std::string_view unit) noexcept;
+std::optional<double> angleUnitFactor(std::string_view unit) noexcept;
 
 }  // namespace volcomp::config

@@ -44,10 +44,7 @@ def main():
     report = {"cycle_period_ms": CYCLE_MS, "max_rate_mm_s": MAX_RATE, "max_offset_mm": MAX_OFFSET,
               "offset_av_ratio": OFFSET_AV_RATIO, "runs": {}}
     with machine:
-        print("LinuxCNC up in %.1f s" % machine.startup_s, flush=True)
-        capture = machine.capture(checks.CAPTURE_PINS)
-        machine.on_and_home()
-        machine.mdi("G21 G90 G0 X80 Y60 Z-40")
+        capture = live_run.start(machine)
         phase = 0
         for model in ("vmc-xyfz-21.json", "vmc-xyfz-21-true.json"):
             name = model[:-5]

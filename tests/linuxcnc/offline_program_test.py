@@ -96,10 +96,7 @@ def main():
                for name, model in models.items()}
     phases = {}
     with machine:
-        print("LinuxCNC up in %.1f s" % machine.startup_s, flush=True)
-        capture = machine.capture(checks.CAPTURE_PINS)
-        machine.on_and_home()
-        machine.mdi("G21 G90 G0 X80 Y60 Z-40")
+        capture = live_run.start(machine)
         phase = 0
         for name, model in models.items():
             live = live_run.run(machine, volcompd, model, work, name + "-live", program, phase,

@@ -10,6 +10,16 @@ import lcnc
 import vmc
 
 
+def start(machine):
+    """On a started LinuxCNC: the capture of checks.CAPTURE_PINS running, the machine on, homed,
+    metric, absolute, at the programs' start point. Returns the capture."""
+    print("LinuxCNC up in %.1f s" % machine.startup_s, flush=True)
+    capture = machine.capture(checks.CAPTURE_PINS)
+    machine.on_and_home()
+    machine.mdi("G21 G90 G0 X80 Y60 Z-40")
+    return capture
+
+
 def run(machine, volcompd, model, work, name, program, phase, failures):
     """Runs `program` (absolute path) while volcompd compensates with `model`; the phases
     phase+1 (daemon starting), phase+2 (the program), phase+3 (SIGTERM) are used. Returns the

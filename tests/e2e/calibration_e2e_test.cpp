@@ -1,42 +1,20 @@
 // Issue 5 end to end, as a metrologist would do it: volcomp-sim's TRUE machine
-// (config/examples/vmc-xyfz-21-true.json) is "measured" over a grid in its travel with four tool
-// offsets (a laser tracer's reflector on a cross-shaped holder), 0.5 um Gaussian noise per
-// coordinate; `volcomp calibrate` identifies the 21 components with the example template
-// (config/examples/vmc-xyfz-21-template.json); volcompd then compensates the simulated TRUE
-// machine with the calibrated model over Modbus TCP. The simulator's report must show the RMS
-// error reduced to at most 10 %.
-//
-// The true EXX is bidirectional (reversal ~4.5 um) and the calibration takes one curve per
-// component, so the X reversal is measured like ISO 230-2 prescribes, in a second run with X
-// approached from above: with every other component held at its stage-1 value, that run
-// identifies EXX's negative-direction curve, which becomes the table's values_negative.
-//
-// The measurements come from `volcomp eval --points` on the true model with the direction of
-// approach given (what the tracer sees at a point approached that way) plus seeded noise.
+// (config/examples/vmc-xyfz-21-true.json) is measured and calibrated with the example template
+// by the shared simulated calibration (tests/testutil/simulated_calibration.hpp: a grid in its
+// travel, four tool offsets, 0.5 um Gaussian noise per coordinate, X's reversal in a second
+// stage); volcompd then compensates the simulated TRUE machine with the calibrated model over
+// Modbus TCP. The simulator's report must show the RMS error reduced to at most 10 %.
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <fstream>
-#include <random>
 #include <set>
-#include <sstream>
 #include <string>
-#include <vector>
 
 #include "process_fixture.hpp"
+#include "simulated_calibration.hpp"
 
 namespace volcomp::e2e {
 namespace {
-
-const std::string kCliPath = VOLCOMP_CLI_PATH;
-
-constexpr double kNoiseMm = 0.0005;  // standard deviation per coordinate
-
-/// Tool offsets of the measurement (mm): two lengths and two lateral offsets, so that the
-/// angular errors of the tool-side Z carriage act through different arms.
-const std::vector<std::array<double, 3>> kTools{
-    {0, 0, 120}, {0, 0, 220}, {100, 0, 120}, {0, 100, 120}};
 
 /// Piecewise-linear interpolation of a table of the true model (its EXX and EZZ are linear).
 double interpolate(const json& table, const char* values, double q) {
@@ -53,110 +31,18 @@ double interpolate(const json& table, const char* values, double q) {
   return v.back().get<double>();
 }
 
-std::vector<double> numbers(const std::string& line) {
-  std::vector<double> fields;
-  std::stringstream in(line);
-  for (std::string s; std::getline(in, s, ',');) fields.push_back(std::stod(s));
-  return fields;
-}
-
 class CalibrationPipeline : public ProcessTest {
  protected:
-  /// Runs `volcomp ARGS...` to its end, reading its stdout (so that a long summary cannot fill
-  /// the pipe and block it); expects exit status 0. Returns the stdout text.
-  std::string runCli(const std::vector<std::string>& args, const std::string& tag) {
-    std::vector<std::string> argv{kCliPath};
-    argv.insert(argv.end(), args.begin(), args.end());
-    testutil::Subprocess cli(argv, path(tag + ".err"));
-    std::string out;
-    while (const auto line = cli.readLine(60s)) out += *line + '\n';
-    EXPECT_EQ(cli.waitExit(10s), 0) << "volcomp " << tag << ": " << cli.stderrText();
-    return out;
-  }
-
-  /// The grid of the measurement: X every 42.5 mm (21), Y every 50 mm (11), Z every 62.5 mm
-  /// (9) over the whole travel, denser than the template's nodes so that the tables are
-  /// determined between them and the degree-6 straightness polynomials along Z by 9 levels.
-  std::string writeGrid() const {
-    std::ofstream out(dir_ / "grid.csv");
-    out << "x,y,z\n";
-    for (int i = 0; i <= 20; ++i)
-      for (int j = 0; j <= 10; ++j)
-        for (int k = 0; k <= 8; ++k)
-          out << 42.5 * i << ',' << 50 * j << ',' << -500 + 62.5 * k << '\n';
-    return path("grid.csv");
-  }
-
-  /// "Measures" the true model at the grid with each tool, approached in `direction` (e.g.
-  /// "+,+,+"), adding the noise; writes x,y,z,ex,ey,ez,tx,ty,tz (mm) to `name`.
-  std::string measure(const std::string& grid, const std::vector<std::array<double, 3>>& tools,
-                      const std::string& direction, std::mt19937& rng, const std::string& name) {
-    std::normal_distribution<double> noise(0.0, kNoiseMm);
-    std::ofstream out(dir_ / name);
-    out.precision(9);
-    out << "x,y,z,ex,ey,ez,tx,ty,tz\n";
-    for (std::size_t t = 0; t < tools.size(); ++t) {
-      const auto& tool = tools[t];
-      std::ostringstream toolText;
-      toolText << tool[0] << ',' << tool[1] << ',' << tool[2];
-      const std::string exact = path(name + "-exact" + std::to_string(t) + ".csv");
-      runCli({"eval", kTrueModel, "--points", grid, "--out", exact, "--tool", toolText.str(),
-              "--direction", direction},
-             name + "-eval" + std::to_string(t));
-      std::ifstream in(exact);
-      std::string line;
-      std::getline(in, line);  // x,y,z,ex,ey,ez,ea,eb,ec,ox,oy,oz
-      std::size_t rows = 0;
-      while (std::getline(in, line)) {
-        const std::vector<double> f = numbers(line);
-        if (f.size() != 12) continue;
-        out << f[0] << ',' << f[1] << ',' << f[2];
-        for (std::size_t k = 3; k < 6; ++k) out << ',' << f[k] + noise(rng);
-        out << ',' << toolText.str() << '\n';
-        ++rows;
-      }
-      EXPECT_EQ(rows, 21U * 11U * 9U) << exact;
-    }
-    return path(name);
-  }
-
-  static json readJson(const std::string& file) {
-    std::ifstream in(file);
-    return json::parse(in);
-  }
-
-  const std::string kTrueModel = exampleFile("vmc-xyfz-21-true.json");
+  testutil::CalibrationBench bench_{VOLCOMP_CLI_PATH, kExamplesDir, dir_};
 };
 
 TEST_F(CalibrationPipeline, CalibratedModelRemovesAtLeast90PercentOfTheTrueError) {
-  std::mt19937 rng(20261122);
-  const std::string grid = writeGrid();
-
-  // Stage 1: every axis approached in + (the tracer program's usual approach).
-  const std::string forward = measure(grid, kTools, "+,+,+", rng, "forward.csv");
-  runCli({"calibrate", exampleFile("vmc-xyfz-21-template.json"), forward, "--out",
-          path("stage1.json"), "--report", path("report.json")},
-         "calibrate1");
-  const json stage1 = readJson(path("stage1.json"));
-  const json report = readJson(path("report.json"));
-
-  // Stage 2: X approached from above, main tool only; the template is the stage-1 model with
-  // EXX to identify again on the same nodes.
-  const std::string reverse = measure(grid, {kTools[0]}, "-,+,+", rng, "reverse.csv");
-  json reverseTemplate = stage1;
-  reverseTemplate["components"]["EXX"] = {
-      {"identify",
-       {{"basis", "table"},
-        {"positions", stage1["components"]["EXX"]["positions"]},
-        {"interpolation", stage1["components"]["EXX"]["interpolation"]}}}};
-  runCli({"calibrate", writeJson("reverse-template.json", reverseTemplate), reverse, "--out",
-          path("stage2.json"), "--report", path("report2.json")},
-         "calibrate2");
-  const json stage2 = readJson(path("stage2.json"));
-  json calibrated = stage1;
-  calibrated["components"]["EXX"]["values_negative"] = stage2["components"]["EXX"]["values"];
-  const std::string calibratedFile = writeJson("calibrated.json", calibrated);
+  const testutil::CalibratedExample files = testutil::calibrateExampleMachine(bench_);
   ASSERT_FALSE(HasFailure());
+  const json stage1 = bench_.readJson(files.stage1);
+  const json report = bench_.readJson(files.report);
+  const json calibrated = bench_.readJson(files.model);
+  const std::string& calibratedFile = files.model;
 
   // --- The report has what issue 5 asks for.
   EXPECT_EQ(report["format"], "volcomp-calibration-report/1");
@@ -204,7 +90,8 @@ TEST_F(CalibrationPipeline, CalibratedModelRemovesAtLeast90PercentOfTheTrueError
   EXPECT_GT(after["rms_mm"].get<double>(), 0.80e-3);
   EXPECT_LT(after["rms_mm"].get<double>(), 0.95e-3);
   // s0 per weighted row is the noise per coordinate.
-  EXPECT_NEAR(report["s0_mm"].get<double>(), kNoiseMm, 0.1 * kNoiseMm);
+  EXPECT_NEAR(report["s0_mm"].get<double>(), testutil::kMeasurementNoiseMm,
+              0.1 * testutil::kMeasurementNoiseMm);
   EXPECT_TRUE(report["condition_number"].is_number());
   EXPECT_GT(report["condition_number"].get<double>(), 1.0);
   const int rank = report["rank"].get<int>();
@@ -222,7 +109,7 @@ TEST_F(CalibrationPipeline, CalibratedModelRemovesAtLeast90PercentOfTheTrueError
   }
   // The written model records where it comes from and the tools it was measured with.
   ASSERT_TRUE(stage1.contains("calibration"));
-  EXPECT_EQ(stage1["calibration"]["tools_mm"].size(), kTools.size());
+  EXPECT_EQ(stage1["calibration"]["tools_mm"].size(), testutil::kMeasurementTools.size());
   EXPECT_EQ(stage1["calibration"]["rank"], rank);
   EXPECT_EQ(stage1["calibration"]["not_identifiable"].size(), named.size());
   // The constant rolls of the X and Y carriages cannot be separated: both carry the table, and
@@ -246,7 +133,7 @@ TEST_F(CalibrationPipeline, CalibratedModelRemovesAtLeast90PercentOfTheTrueError
   // along their own axes in this template (straightness polynomials start at q^2), so the
   // node values must match the true curves within the noise (std ~0.06 um) and the fit of a
   // cubic spline on 85/100 mm nodes to tables with kinks every 50 mm (< 0.1 um).
-  const json truth = readJson(kTrueModel);
+  const json truth = bench_.readJson(bench_.trueModel());
   for (const char* name : {"EXX", "EYY", "EZZ"}) {
     const json& fitted = calibrated["components"][name];
     for (std::size_t i = 0; i < fitted["positions"].size(); ++i) {
@@ -266,7 +153,7 @@ TEST_F(CalibrationPipeline, CalibratedModelRemovesAtLeast90PercentOfTheTrueError
   // --- The calibrated model compensates the simulated TRUE machine. The path: the four body
   // diagonals of a box inside the measured volume, joined by X-reversing moves, so that every
   // axis reverses and Z varies; 400 mm/s (24 m/min).
-  json sim = simConfig(kTrueModel);
+  json sim = simConfig(bench_.trueModel());
   sim["path"] = {{"type", "points"},
                  {"feed_mm_min", 24000},
                  {"points",

@@ -27,8 +27,8 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "harness"))
-import daemon as vd  # noqa: E402
 import lcnc  # noqa: E402
+import live_run  # noqa: E402
 import vmc  # noqa: E402
 from vmc import CYCLE_MS, MAX_OFFSET, MAX_RATE, OFFSET_AV_RATIO  # noqa: E402
 import checks  # noqa: E402
@@ -43,51 +43,15 @@ def main():
     machine = vmc.machine(work, hal_dir)
     report = {"cycle_period_ms": CYCLE_MS, "max_rate_mm_s": MAX_RATE, "max_offset_mm": MAX_OFFSET,
               "offset_av_ratio": OFFSET_AV_RATIO, "runs": {}}
-    transport = vmc.TRANSPORT
     with machine:
-        print("LinuxCNC up in %.1f s" % machine.startup_s, flush=True)
-        capture = machine.capture(checks.CAPTURE_PINS)
-        machine.on_and_home()
-        machine.mdi("G21 G90 G0 X80 Y60 Z-40")
+        capture = live_run.start(machine)
         phase = 0
         for model in ("vmc-xyfz-21.json", "vmc-xyfz-21-true.json"):
             name = model[:-5]
-            config = os.path.join(work, name + ".volcompd.json")
-            vd.write_config(config, os.path.join(examples, model), transport, cycle_ms=CYCLE_MS,
-                            max_offset=MAX_OFFSET, max_rate=MAX_RATE)
-            daemon = vd.Daemon(volcompd, config, os.path.join(work, name + ".log")).start()
-            phase += 1
-            checks.set_phase(phase)  # daemon starting, settling
-            lcnc.wait_for(lambda: "volcomp" in vd.component_names(), "volcompd's component", 30)
-            vd.wait_status(machine, "volcomp",
-                           lambda s: s & vd.STATUS_ACTIVE and not s & vd.STATUS_LIMITED,
-                           "volcompd active and settled")
-            phase += 1
-            checks.set_phase(phase)  # the program runs
-            program_phase = phase
-            # (LinuxCNC 2.9 stalls a program started again right after it ended; an MDI move
-            # in between avoids that.)
-            machine.mdi("G0 X80 Y60 Z-40")
-            machine.run_program(program)
-            machine.wait_program()
-            phase += 1
-            checks.set_phase(phase)  # SIGTERM
-            rc = daemon.terminate()
-            failures.check(rc == 0, "%s: volcompd exits 0 after SIGTERM (got %s)" % (name, rc))
-            failures.check("stopping -> finished" in daemon.text(),
-                           "%s: volcompd ramped out and finished" % name)
-            # The watchdog's clear follows the silence; nothing may move after the ramp.
-            lcnc.wait_for(lambda: machine.get("volcomp-eoffset-clear"), "the watchdog's clear", 5)
-            for k, axis in enumerate("xyz"):
-                eo = machine.get("axis.%s.eoffset" % axis)
-                failures.check(abs(eo) < 1e-6, "%s: after SIGTERM the %s offset is zero (%.3g mm)"
-                               % (name, axis.upper(), eo))
-                joint = machine.get("joint.%d.pos-fb" % k)
-                cmd = machine.get("axis.%s.pos-cmd" % axis)
-                failures.check(abs(joint - cmd) < 1e-6,
-                               "%s: after SIGTERM joint %d is on the nominal position (%.6f vs "
-                               "%.6f)" % (name, k, joint, cmd))
+            program_phase = live_run.run(machine, volcompd, os.path.join(examples, model), work,
+                                         name, program, phase, failures)
             report["runs"][name] = {"program_phase": program_phase}
+            phase = program_phase + 1
         phase += 1
         checks.set_phase(phase)
         rows = capture.stop()

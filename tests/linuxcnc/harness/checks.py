@@ -141,14 +141,22 @@ def check_rates(rows, limits, failures, label=""):
             "max_joint_minus_commanded_plus_offset_mm": worst_joint}
 
 
-def tooltip_error(tool, true_model, rows, csv_path):
-    """The true tool-tip error along `rows` with and without their applied offsets."""
+def write_record(csv_path, rows, with_offsets=True):
+    """The positions of `rows` as CSV x,y,z,ox,oy,oz (mm): commanded positions and the external
+    offsets LinuxCNC applied (zero when `with_offsets` is false: the machine as if uncompensated),
+    as volcomp-tooltip-error and `volcomp-sim nc-run --positions` read them."""
     with open(csv_path, "w") as f:
         f.write("x,y,z,ox,oy,oz\n")
         for r in rows:
+            o = [r[COL_EOFFSET + k] if with_offsets else 0.0 for k in range(3)]
             f.write("%.9f,%.9f,%.9f,%.9f,%.9f,%.9f\n" % (
-                r[COL_POS], r[COL_POS + 1], r[COL_POS + 2],
-                r[COL_EOFFSET], r[COL_EOFFSET + 1], r[COL_EOFFSET + 2]))
+                r[COL_POS], r[COL_POS + 1], r[COL_POS + 2], o[0], o[1], o[2]))
+    return csv_path
+
+
+def tooltip_error(tool, true_model, rows, csv_path):
+    """The true tool-tip error along `rows` with and without their applied offsets."""
+    write_record(csv_path, rows)
     out = subprocess.run([tool, true_model, csv_path], capture_output=True, text=True)
     if out.returncode != 0:
         raise RuntimeError("volcomp-tooltip-error failed: " + out.stderr)

@@ -3,13 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <iostream>
 #include <limits>
+#include <optional>
+#include <sstream>
 #include <unordered_map>
 
 #include <CLI/CLI.hpp>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/printable.hpp"
 #include "volcomp/nc/nc_error.hpp"
 #include "volcomp/sim/sim_config.hpp"
 
@@ -131,60 +135,135 @@ class PathIndex {
 }  // namespace
 
 nlohmann::json NcRunReport::toJson() const {
-  return nlohmann::json{{"samples", samples},
-                        {"path_mm", pathMm},
-                        {"rms_um", rmsUm},
-                        {"max_um", maxUm},
-                        {"rms_axis_um", rmsAxisUm},
-                        {"max_axis_um", maxAxisUm},
-                        {"marked_moves", markedMoves}};
+  return nlohmann::json{{"samples", samples},       {"path_mm", pathMm},
+                        {"rms_um", rmsUm},          {"max_um", maxUm},
+                        {"max_at_mm", maxAtMm},     {"rms_axis_um", rmsAxisUm},
+                        {"max_axis_um", maxAxisUm}, {"marked_moves", markedMoves}};
 }
+
+namespace {
+
+// The contour error of tool-tip positions against the reference path, accumulated sample by
+// sample: the part of nc-run that a program run and a recorded run share.
+class ContourMeter {
+ public:
+  ContourMeter(const NcProgramSpec& reference, const std::string& trueModel)
+      : pieces_(referencePieces(readNcProgram(reference))),
+        index_(pieces_),
+        trueError_(loadTrueError(trueModel)) {
+    if (pieces_.empty()) {
+      throw config::ConfigError(reference.file, "", "the reference program has no feed moves");
+    }
+  }
+
+  /// Directions of travel on the reference path nearest to `q`.
+  MotionDirections directionsNear(const V3& q) const { return pieces_[index_.nearest(q)].dirs; }
+
+  /// One sample: the axes stand at `q`, moving in `dirs`.
+  void add(const V3& q, const MotionDirections& dirs) {
+    const Vec3 err = trueError_({q[0], q[1], q[2]}, dirs);
+    const V3 tip = q + V3(err[0], err[1], err[2]);
+    const V3 error = tip - closestOn(pieces_[index_.nearest(tip)], tip);
+    const double norm = error.norm() * 1000.0;
+    sumSq_ += norm * norm;
+    if (norm > r_.maxUm || r_.samples == 0) {
+      r_.maxUm = norm;
+      r_.maxAtMm = {q[0], q[1], q[2]};
+    }
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double c = error[static_cast<int>(k)] * 1000.0;
+      sumSqAxis_[k] += c * c;
+      r_.maxAxisUm[k] = std::max(r_.maxAxisUm[k], std::abs(c));
+    }
+    ++r_.samples;
+  }
+
+  NcRunReport& report() {
+    if (r_.samples > 0) {
+      r_.rmsUm = std::sqrt(sumSq_ / static_cast<double>(r_.samples));
+      for (std::size_t k = 0; k < 3; ++k) {
+        r_.rmsAxisUm[k] = std::sqrt(sumSqAxis_[k] / static_cast<double>(r_.samples));
+      }
+    }
+    return r_;
+  }
+
+ private:
+  const std::vector<Piece> pieces_;
+  const PathIndex index_;
+  const ErrorFunction trueError_;
+  NcRunReport r_;
+  double sumSq_ = 0.0;
+  std::array<double, 3> sumSqAxis_{};
+};
+
+}  // namespace
 
 NcRunReport runNcProgram(const NcRunOptions& options) {
   const std::vector<NcProgramMove> program = readNcProgram(options.program);
-  const std::vector<NcProgramMove> reference = readNcProgram(options.reference);
-  const std::vector<Piece> pieces = referencePieces(reference);
-  if (pieces.empty()) {
-    throw config::ConfigError(options.reference.file, "",
-                              "the reference program has no feed moves");
-  }
-  const ErrorFunction trueError = loadTrueError(options.trueModel);
-  const PathIndex index(pieces);
-  NcRunReport r;
-  double sumSq = 0.0;
-  std::array<double, 3> sumSqAxis{};
+  ContourMeter meter(options.reference, options.trueModel);
+  double pathMm = 0.0;
+  long markedMoves = 0;
   for (const NcProgramMove& m : program) {
     if (m.move.kind == nc::MoveKind::Rapid) continue;
     if (m.marked) {
-      ++r.markedMoves;
+      ++markedMoves;
       continue;
     }
     const double length = m.move.lengthMm();
-    r.pathMm += length;
+    pathMm += length;
     const int n = std::max(1, static_cast<int>(std::ceil(length / options.stepMm)));
-    const MotionDirections dirs = pieces[index.nearest(m.move.at(0.5))].dirs;
-    for (int i = 0; i <= n; ++i) {
-      const V3 q = m.move.at(static_cast<double>(i) / n);
-      const Vec3 err = trueError({q[0], q[1], q[2]}, dirs);
-      const V3 tip = q + V3(err[0], err[1], err[2]);
-      const V3 error = tip - closestOn(pieces[index.nearest(tip)], tip);
-      const double norm = error.norm() * 1000.0;
-      sumSq += norm * norm;
-      r.maxUm = std::max(r.maxUm, norm);
-      for (std::size_t k = 0; k < 3; ++k) {
-        const double c = error[static_cast<int>(k)] * 1000.0;
-        sumSqAxis[k] += c * c;
-        r.maxAxisUm[k] = std::max(r.maxAxisUm[k], std::abs(c));
+    const MotionDirections dirs = meter.directionsNear(m.move.at(0.5));
+    for (int i = 0; i <= n; ++i) meter.add(m.move.at(static_cast<double>(i) / n), dirs);
+  }
+  NcRunReport r = meter.report();
+  r.pathMm = pathMm;
+  r.markedMoves = markedMoves;
+  return r;
+}
+
+NcRunReport measureRecordedRun(const std::string& recordFile, const NcProgramSpec& reference,
+                               const std::string& trueModel) {
+  ContourMeter meter(reference, trueModel);
+  std::ifstream in(recordFile);
+  if (!in) throw config::ConfigError(recordFile, "", "cannot be read");
+  std::string line;
+  std::getline(in, line);
+  if (line.rfind("x,y,z,ox,oy,oz", 0) != 0) {
+    throw config::ConfigError(recordFile, "",
+                              "expected the header x,y,z,ox,oy,oz, found " + config::quoted(line));
+  }
+  double pathMm = 0.0;
+  std::optional<V3> previous;
+  for (long row = 2; std::getline(in, line); ++row) {
+    std::array<double, 6> f{};
+    std::stringstream fields(line);
+    std::string field;
+    std::size_t k = 0;
+    for (; k < f.size() && std::getline(fields, field, ','); ++k) {
+      std::size_t used = 0;
+      try {
+        f[k] = std::stod(field, &used);
+      } catch (const std::exception&) {
+        used = 0;
       }
-      ++r.samples;
+      if (used == 0 || !std::isfinite(f[k])) {
+        throw config::ConfigError(recordFile + ":" + std::to_string(row), "",
+                                  "column " + std::to_string(k + 1) +
+                                      ": expected a number, found " + config::quoted(field));
+      }
     }
-  }
-  if (r.samples > 0) {
-    r.rmsUm = std::sqrt(sumSq / static_cast<double>(r.samples));
-    for (std::size_t k = 0; k < 3; ++k) {
-      r.rmsAxisUm[k] = std::sqrt(sumSqAxis[k] / static_cast<double>(r.samples));
+    if (k != f.size()) {
+      throw config::ConfigError(recordFile + ":" + std::to_string(row), "",
+                                "expected 6 numbers x,y,z,ox,oy,oz");
     }
+    const V3 q(f[0] + f[3], f[1] + f[4], f[2] + f[5]);
+    if (previous) pathMm += (q - *previous).norm();
+    previous = q;
+    meter.add(q, meter.directionsNear(q));
   }
+  NcRunReport r = meter.report();
+  r.pathMm = pathMm;
   return r;
 }
 
@@ -197,9 +276,16 @@ int ncRunMain(int argc, char** argv) {
       "volcomp-sim nc-run"};
   NcRunOptions o;
   std::vector<double> start;
-  app.add_option("program", o.program.file, "NC program the machine runs")
-      ->required()
-      ->check(CLI::ExistingFile);
+  std::string record;
+  auto* program = app.add_option("program", o.program.file, "NC program the machine runs")
+                      ->check(CLI::ExistingFile);
+  auto* positions =
+      app.add_option("--positions", record,
+                     "Instead of a program: positions a machine recorded (CSV x,y,z,ox,oy,oz in "
+                     "mm, one row per sample: axis positions and applied external offsets)")
+          ->check(CLI::ExistingFile)
+          ->excludes(program);
+  program->excludes(positions);
   app.add_option("--reference", o.reference.file,
                  "Program whose path is the intended one (the original)")
       ->required()
@@ -222,16 +308,21 @@ int ncRunMain(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
+  if (o.program.file.empty() && record.empty()) {
+    std::cerr << "volcomp-sim nc-run: give a program or --positions\n";
+    return 2;
+  }
   if (start.size() == 3) o.program.startMm = Vec3{start[0], start[1], start[2]};
   const std::string file = o.reference.file;
   o.reference = o.program;
   o.reference.file = file;
   try {
-    const NcRunReport r = runNcProgram(o);
+    const NcRunReport r =
+        record.empty() ? runNcProgram(o) : measureRecordedRun(record, o.reference, o.trueModel);
     std::cout << r.toJson().dump() << std::endl;
-    std::cerr << "volcomp-sim nc-run: " << o.program.file << " against " << o.reference.file
-              << ": contour error RMS " << r.rmsUm << " um, max " << r.maxUm << " um (" << r.samples
-              << " samples over " << r.pathMm << " mm)\n";
+    std::cerr << "volcomp-sim nc-run: " << (record.empty() ? o.program.file : record) << " against "
+              << o.reference.file << ": contour error RMS " << r.rmsUm << " um, max " << r.maxUm
+              << " um (" << r.samples << " samples over " << r.pathMm << " mm)\n";
   } catch (const std::exception& e) {
     std::cerr << "volcomp-sim: " << e.what() << '\n';
     return 2;

@@ -30,6 +30,7 @@ struct NcRunReport {
   double pathMm = 0.0;  ///< length of the sampled feed moves
   double rmsUm = 0.0;   ///< contour error, RMS over the samples
   double maxUm = 0.0;
+  std::array<double, 3> maxAtMm{};    ///< axis position of the sample with the largest error
   std::array<double, 3> rmsAxisUm{};  ///< components of the error vector
   std::array<double, 3> maxAxisUm{};
   long markedMoves = 0;
@@ -38,6 +39,15 @@ struct NcRunReport {
 
 /// Throws config::ConfigError / nc::NcError for bad files.
 NcRunReport runNcProgram(const NcRunOptions& options);
+
+/// The contour error of a run a machine recorded: `recordFile` is CSV with the header
+/// x,y,z,ox,oy,oz and one row per sample (mm): the axis positions q the controller commanded and
+/// the external offsets o it applied, so that the axes stand at q + o (as the LinuxCNC tests
+/// record them). Each sample's tool tip (q + o) + E(q + o) is compared with the reference path,
+/// with the directions of travel of the nearest reference piece. pathMm is the length of the
+/// recorded polyline; markedMoves is 0. Throws config::ConfigError for a bad file (file:row).
+NcRunReport measureRecordedRun(const std::string& recordFile, const NcProgramSpec& reference,
+                               const std::string& trueModel);
 
 /// The `nc-run` command line (argv[0] is "nc-run"): prints the report as one JSON line on stdout
 /// and a summary on stderr; returns the exit status.

@@ -200,6 +200,27 @@ TEST_F(RunCalibrate, TemplateWithoutIdentifyBlocksIsRejected) {
   EXPECT_FALSE(fs::exists(options.outPath));
 }
 
+TEST_F(RunCalibrate, APolynomialWithoutTravelIsRefusedBeforeAnythingIsWritten) {
+  // The model reader refuses such a polynomial: calibrate refuses the template instead of
+  // writing a model nobody can load.
+  json t = json::parse(templateText(false));
+  t.erase("travel");
+  CalibrateOptions options = defaults();
+  options.templatePath = write("template.json", t.dump());
+  std::ostringstream out;
+  try {
+    runCalibrate(options, out);
+    FAIL() << "expected a ConfigError";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.file(), options.templatePath);
+    EXPECT_EQ(e.keyPath(), "components.EXX.identify");
+    EXPECT_NE(std::string(e.what()).find("needs the travel of axis X"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(options.outPath));
+  EXPECT_FALSE(fs::exists(options.reportPath));
+}
+
 TEST_F(RunCalibrate, RobustLossWithTheLinearMethodIsAnOptionError) {
   CalibrateOptions options;
   options.templatePath = write("template.json", templateText(false));

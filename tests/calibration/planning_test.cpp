@@ -14,6 +14,7 @@
 #include <random>
 #include <set>
 
+#include "subprocess.hpp"
 #include "synthetic.hpp"
 #include "volcomp/calibration/planning.hpp"
 
@@ -170,6 +171,29 @@ TEST(Planning, OneToolCannotSeparateWhatTheToolsLeverArmsShow) {
   EXPECT_LT(plan.candidateRank, 122);
   EXPECT_EQ(plan.statistics.rank, plan.candidateRank);
   EXPECT_GT(plan.statistics.unidentifiable.size(), 3u);
+}
+
+TEST(Planning, SmoothnessRowsAreInformationOfEveryDesignNotCandidates) {
+  // A table with smoothness adds prior rows below the candidates' rows in the sensitivity matrix:
+  // both criteria choose among the candidates only, and the prior counts for every design.
+  config::ParseOptions parse;
+  parse.allowIdentify = true;
+  nlohmann::json text =
+      nlohmann::json::parse(testutil::readTextFile(kExamples + "/vmc-xyfz-21-template.json"));
+  text["components"]["EXX"]["identify"]["smoothness"] = 1e4;
+  const config::ModelDocument document = config::parseModel(text, "smooth.json", parse);
+  const std::vector<PlanCandidate> all = gridCandidates(
+      std::get<model::MachineModelSpec>(document.spec), {9, 6, 5}, {Eigen::Vector3d(0, 0, 120)});
+  for (PlanCriterion criterion : {PlanCriterion::D, PlanCriterion::I}) {
+    PlanOptions options;
+    options.points = 60;
+    options.criterion = criterion;
+    const PlanResult plan = planMeasurements(document, all, options);
+    ASSERT_EQ(plan.selected.size(), 60u);
+    EXPECT_EQ(std::set<std::size_t>(plan.selected.begin(), plan.selected.end()).size(), 60u);
+    for (std::size_t i : plan.selected) EXPECT_LT(i, all.size());
+    EXPECT_EQ(plan.statistics.rank, plan.candidateRank);
+  }
 }
 
 }  // namespace

@@ -37,15 +37,8 @@ class RunCalibrate : public ::testing::Test {
 
   // Measurements of the FXYZ truth below with two tool lengths, as CSV text.
   static std::string measurementCsv(unsigned seed = 1) {
-    const json truth{{"format", "volcomp-model/1"},
-                     {"topology", "FXYZ"},
-                     {"travel", {{"X", {0, 800}}, {"Y", {0, 500}}, {"Z", {-400, 0}}}},
-                     {"tool", {0, 0, 100}},
-                     {"error_units", {{"length", "um"}, {"angle", "urad"}}},
-                     {"components",
-                      {{"EXX", {{"polynomial", {3.0, 0.012}}}},
-                       {"EBX", 25.0},
-                       {"EXZ", {{"polynomial", {0.0, -0.02}}}}}}};
+    json truth = testing::fxyzTruth();
+    truth["components"].erase("EC0Y");
     testing::SyntheticOptions options;
     options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
     options.noiseMm = 5e-4;

@@ -43,6 +43,25 @@ double binomial(int n, int k) {
   return result;
 }
 
+// The model reader refuses a polynomial (degree >= 1) on an axis without travel, since it would be
+// extrapolated without bound: a template that would identify one is refused before any fit, so
+// that calibrate never writes a model that cannot be read back.
+void requireTravelForPolynomial(const IdentifySpec& spec, int axis,
+                                const model::MachineModelSpec& templateSpec,
+                                const std::string& file, const std::string& identifyPath) {
+  if (spec.basis != IdentifySpec::Basis::Polynomial || spec.degree < 1 ||
+      templateSpec.travelMm[static_cast<std::size_t>(axis)]) {
+    return;
+  }
+  const std::string name(1, "XYZ"[axis]);
+  throw ConfigError(file, identifyPath,
+                    "a polynomial of degree " + std::to_string(spec.degree) +
+                        " needs the travel of axis " + name + " (\"travel\": {\"" + name +
+                        "\": [min, max]} in mm, the range the measurements cover): the "
+                        "identified model would extrapolate it without bound and could not be "
+                        "read back; give the travel, or identify a table or a constant");
+}
+
 }  // namespace
 
 MachineIdentification::MachineIdentification(const config::ModelDocument& document,
@@ -146,6 +165,7 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
     component.start =
         startValues(component, template_.motion[static_cast<std::size_t>(component.motion)], file,
                     keyPath + ".start");
+    requireTravelForPolynomial(spec, component.axis, template_, file, identifyPath);
     base.motion[static_cast<std::size_t>(component.motion)] = 0.0;
     components_.push_back(std::move(component));
   }

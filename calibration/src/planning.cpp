@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "scaled_svd.hpp"
+#include "variance_exchange.hpp"
 
 namespace volcomp::calibration {
 namespace {
@@ -29,23 +30,15 @@ double logDet3(const Matrix3& m) {
 // H = F M^-1 F_s^T (all candidates' rows at once, one matrix product).
 class Design {
  public:
-  explicit Design(const Eigen::MatrixXd& f) : f_(f) {
-    const Eigen::Index r = f.cols();
-    inverse_ = Eigen::MatrixXd::Identity(r, r) / kRidge;
-    const Eigen::Index count = f.rows() / 3;
-    p_.resize(static_cast<std::size_t>(count));
-    for (Eigen::Index i = 0; i < count; ++i) {
-      p_[static_cast<std::size_t>(i)] =
-          f.middleRows(3 * i, 3) * f.middleRows(3 * i, 3).transpose() / kRidge;
-    }
-    logDet_ = static_cast<double>(r) * std::log(kRidge);
+  explicit Design(const detail::CandidateRows& c) : f_(c.rows), prior_(c.prior), p_(c.count()) {
+    reset({});
   }
 
   /// Recomputes M^-1 and every P_i from the chosen points, so that rounding from many updates
   /// cannot accumulate.
   void reset(const std::vector<std::size_t>& chosen) {
     const Eigen::Index r = f_.cols();
-    Eigen::MatrixXd information = kRidge * Eigen::MatrixXd::Identity(r, r);
+    Eigen::MatrixXd information = prior_ + kRidge * Eigen::MatrixXd::Identity(r, r);
     for (std::size_t s : chosen) {
       const auto fs = f_.middleRows(3 * static_cast<Eigen::Index>(s), 3);
       information.noalias() += fs.transpose() * fs;
@@ -103,6 +96,7 @@ class Design {
 
  private:
   const Eigen::MatrixXd& f_;
+  const Eigen::MatrixXd& prior_;
   Eigen::MatrixXd inverse_;
   std::vector<Matrix3> p_;
   double logDet_ = 0.0;
@@ -240,18 +234,24 @@ PlanResult planMeasurements(const config::ModelDocument& templateDocument,
   report(options, "sensitivity of " + std::to_string(count) + " candidates to " +
                       std::to_string(jacobian.cols()) + " parameters");
 
-  // F = J_s V_r S_r^-1 = U_r (3C x r): the candidates in coordinates of what they can identify.
-  Eigen::MatrixXd f;
+  // F = J_s V_r S_r^-1 = U_r: the candidates (3 rows each) and the template's prior rows
+  // (smoothness) in coordinates of what they can identify.
+  detail::CandidateRows rows;
   {
     const ScaledSvd svd(jacobian, options.rankTolerance);
     const Eigen::Index r = svd.rank;
-    Eigen::MatrixXd scaled = jacobian * svd.columnScale.asDiagonal();
-    f = scaled * svd.v.leftCols(r) * svd.singularValues.head(r).cwiseInverse().asDiagonal();
+    const Eigen::MatrixXd scaled = jacobian * svd.columnScale.asDiagonal();
+    const Eigen::MatrixXd f =
+        scaled * svd.v.leftCols(r) * svd.singularValues.head(r).cwiseInverse().asDiagonal();
+    const auto candidateRows = static_cast<Eigen::Index>(3 * count);
+    rows.rows = f.topRows(candidateRows);
+    const auto prior = f.bottomRows(f.rows() - candidateRows);
+    rows.prior = prior.transpose() * prior;
   }
-  report(options, "the candidates identify rank " + std::to_string(f.cols()) + " of " +
+  report(options, "the candidates identify rank " + std::to_string(rows.rows.cols()) + " of " +
                       std::to_string(jacobian.cols()));
 
-  Design design(f);
+  Design design(rows);
   std::vector<bool> chosen(count, false);
   std::vector<std::size_t> selected;
   for (int k = 0; k < options.points; ++k) {
@@ -292,9 +292,27 @@ PlanResult planMeasurements(const config::ModelDocument& templateDocument,
     if (changed == 0) break;
   }
 
+  if (options.criterion == PlanCriterion::I) {
+    // The exchange needs M positive definite; a design that leaves a prediction undetermined
+    // has infinite variance whatever is exchanged, and D (which counts every identified
+    // direction) is the criterion that makes it determine as much as it can.
+    if (!detail::determinesEveryPrediction(rows, selected, options.rankTolerance)) {
+      report(options,
+             "I-optimal exchange skipped: the design does not determine every prediction "
+             "(rank deficient), the D-optimal design is kept");
+    } else {
+      report(options, "I-optimal exchange (mean prediction variance over the candidates):");
+      selected = detail::minimiseWeightedVariance(
+          rows, Eigen::VectorXd::Ones(static_cast<Eigen::Index>(count)), selected,
+          options.maxPasses, options.progress);
+    }
+  }
+
   PlanResult result = evaluateDesign(templateDocument, candidates, selected, options);
+  design.reset(selected);
   result.logDeterminant = design.logDet();
   result.exchanges = exchanges;
+  result.criterion = options.criterion;
   return result;
 }
 

@@ -84,6 +84,13 @@ void writePlan(const std::string& path, const std::vector<PlanCandidate>& candid
   output::writeOutputFile(path, file.str(), inputs);
 }
 
+std::string criterionText(PlanCriterion criterion) {
+  return criterion == PlanCriterion::I
+             ? "I-optimal (mean prediction variance over the candidates), from the D-optimal "
+               "design"
+             : "D-optimal on the identifiable subspace";
+}
+
 Json planJson(const PlanVerbOptions& options, const PlanResult& plan,
               const std::vector<PlanCandidate>& candidates,
               const std::vector<ParameterInfo>& info) {
@@ -116,7 +123,7 @@ Json planJson(const PlanVerbOptions& options, const PlanResult& plan,
   }
   return Json{{"format", "volcomp-plan-report/1"},
               {"template", options.templatePath},
-              {"criterion", "D-optimal on the identifiable subspace"},
+              {"criterion", criterionText(plan.criterion)},
               {"points", plan.selected.size()},
               {"candidates", candidates.size()},
               {"candidate_rank", plan.candidateRank},
@@ -143,6 +150,10 @@ Json planJson(const PlanVerbOptions& options, const PlanResult& plan,
 int runPlan(const PlanVerbOptions& options, std::ostream& out) {
   if (options.points < 1) throw ConfigError(kCommandLine, "--points", "expected N >= 1");
   if (!(options.noiseMm > 0.0)) throw ConfigError(kCommandLine, "--noise", "expected > 0 (mm)");
+  if (options.criterion != "d" && options.criterion != "i") {
+    throw ConfigError(kCommandLine, "--criterion", "expected d or i");
+  }
+  const PlanCriterion criterion = options.criterion == "i" ? PlanCriterion::I : PlanCriterion::D;
   config::ParseOptions parseOptions;
   parseOptions.allowIdentify = true;
   const config::ModelDocument document = config::loadModelFile(options.templatePath, parseOptions);
@@ -173,15 +184,17 @@ int runPlan(const PlanVerbOptions& options, std::ostream& out) {
         kCommandLine, "--points",
         "expected at most the number of candidates (" + std::to_string(candidates.size()) + ")");
   }
-  out << "planning " << options.points << " of " << candidates.size() << " candidates"
-      << " (D-optimal on the identifiable subspace, which also minimises the largest prediction "
-         "variance)"
-      << std::endl;
+  out << "planning " << options.points << " of " << candidates.size() << " candidates ("
+      << criterionText(criterion) << ")" << std::endl;
   PlanOptions planOptions;
   planOptions.points = options.points;
+  planOptions.criterion = criterion;
   planOptions.noiseMm = options.noiseMm;
   planOptions.rankTolerance = options.rankTolerance;
-  planOptions.progress = [&out](const std::string& line) { out << "  " << line << std::endl; };
+  std::ostream& progress = options.progress != nullptr ? *options.progress : out;
+  planOptions.progress = [&progress](const std::string& line) {
+    progress << "  " << line << std::endl;
+  };
   const PlanResult plan = planMeasurements(document, candidates, planOptions);
 
   const auto problem = makeIdentificationProblem(document, designMeasurements(candidates, {0}));

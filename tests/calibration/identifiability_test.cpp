@@ -16,15 +16,7 @@
 namespace volcomp::calibration {
 namespace {
 
-Eigen::MatrixXd randomMatrix(int rows, int columns, unsigned seed) {
-  std::mt19937 generator(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::MatrixXd m(rows, columns);
-  for (int i = 0; i < rows; ++i) {
-    for (int j = 0; j < columns; ++j) m(i, j) = normal(generator);
-  }
-  return m;
-}
+using testing::randomMatrix;
 
 // r(p) = J p - y, one residual per observation.
 class LinearProblem final : public ResidualProblem {

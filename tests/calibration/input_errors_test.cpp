@@ -141,6 +141,19 @@ TEST(CalibrationTemplate, RejectsBadIdentifyBlocksNamingTheKey) {
   EXPECT_NE(start.find("components.EXX.start"), std::string::npos) << start;
 }
 
+TEST(CalibrationTemplate, APolynomialOnAnAxisWithoutTravelIsRefusedBeforeTheFit) {
+  // The model reader refuses a polynomial without the axis' travel, so calibrate must not write
+  // one: the template is refused up front, naming the component and the travel it needs.
+  const json straightness{{"basis", "polynomial"}, {"degree", 3}};
+  const std::string message = templateError({{"EYX", {{"identify", straightness}}}});
+  EXPECT_NE(message.find("template.json"), std::string::npos) << message;
+  EXPECT_NE(message.find("components.EYX.identify"), std::string::npos) << message;
+  EXPECT_NE(message.find("\"travel\": {\"X\": [min, max]}"), std::string::npos) << message;
+  // A constant (degree 0) is bounded: no travel needed, as for the reader.
+  const json constant{{"basis", "polynomial"}, {"degree", 0}};
+  EXPECT_EQ(templateError({{"EYX", {{"identify", constant}}}}), "");
+}
+
 TEST(CalibrationTemplate, JointColumnsAreRejectedForAThreeAxisModel) {
   const json t{{"format", "volcomp-model/1"},
                {"topology", "FXYZ"},

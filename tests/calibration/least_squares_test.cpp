@@ -7,20 +7,13 @@
 #include <map>
 #include <random>
 
+#include "synthetic.hpp"
 #include "volcomp/calibration/least_squares.hpp"
 
 namespace volcomp::calibration {
 namespace {
 
-Eigen::MatrixXd randomMatrix(int rows, int columns, unsigned seed) {
-  std::mt19937 generator(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::MatrixXd m(rows, columns);
-  for (int i = 0; i < rows; ++i) {
-    for (int j = 0; j < columns; ++j) m(i, j) = normal(generator);
-  }
-  return m;
-}
+using testing::randomMatrix;
 
 TEST(Analyse, FullRankCovarianceIsTheTextbookFormula) {
   // Columns of very different scales (as mm, rad and mm/mm^2 parameters have): the scaling must

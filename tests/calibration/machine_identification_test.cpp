@@ -40,31 +40,6 @@ void expectWithinSigma(const FitResult& fit, const Eigen::VectorXd& truth, int a
   EXPECT_LE(beyond3, allowedBeyond3);
 }
 
-// FXYZ, tool [0, 0, 100]: EXX linear, EBX constant, EXZ linear (zero at 0).
-json fxyzTruth() {
-  return json{{"format", "volcomp-model/1"},
-              {"topology", "FXYZ"},
-              // The synthetic points' box: a polynomial needs the travel it holds over.
-              {"travel", {{"X", {0, 800}}, {"Y", {0, 500}}, {"Z", {-400, 0}}}},
-              {"tool", {0, 0, 100}},
-              {"error_units", {{"length", "um"}, {"angle", "urad"}}},
-              {"components",
-               {{"EXX", {{"polynomial", {3.0, 0.012}}}},
-                {"EBX", 25.0},
-                {"EXZ", {{"polynomial", {0.0, -0.02}}}},
-                {"EC0Y", 15.0}}}};
-}
-
-json fxyzTemplate() {
-  json t = fxyzTruth();
-  t["components"] = {
-      {"EXX", {{"identify", {{"basis", "polynomial"}, {"degree", 1}}}}},
-      {"EBX", {{"identify", "constant"}}},
-      {"EXZ", {{"identify", {{"basis", "polynomial"}, {"degree", 1}, {"zero_at", 0}}}}},
-      {"EC0Y", {{"identify", "constant"}}}};
-  return t;
-}
-
 TEST(MachineIdentification, SingleToolLengthCannotSeparatePitchFromStraightnessAndOffset) {
   // With one tool length, EBX = b gives e_x = b (z + 100) (Abbe arm from the X carriage to the
   // tool tip, the worked example of docs/model-file.md), which is exactly EXX c0 = 100 b plus EXZ
@@ -72,8 +47,9 @@ TEST(MachineIdentification, SingleToolLengthCannotSeparatePitchFromStraightnessA
   // unchanged.
   SyntheticOptions options;
   options.noiseMm = 1e-4;
-  const MeasurementSet data = simulate(testing::machineSpec(fxyzTruth()), options);
-  const auto problem = makeIdentificationProblem(testing::templateDocument(fxyzTemplate()), data);
+  const MeasurementSet data = simulate(testing::machineSpec(testing::fxyzTruth()), options);
+  const auto problem =
+      makeIdentificationProblem(testing::templateDocument(testing::fxyzTemplate()), data);
   const FitResult fit = solve(*problem, problem->startVector());
   EXPECT_EQ(fit.statistics.parameterCount, 5);
   EXPECT_EQ(fit.statistics.rank, 4);
@@ -97,9 +73,7 @@ TEST(MachineIdentification, TwoToolLengthsSeparatePitchAndRecoverWithinThreeSigm
   SyntheticOptions options;
   options.noiseMm = 1e-3;
   options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
-  const MeasurementSet data = simulate(testing::machineSpec(fxyzTruth()), options);
-  const auto problem = makeIdentificationProblem(testing::templateDocument(fxyzTemplate()), data);
-  const FitResult fit = solve(*problem, problem->startVector());
+  const auto [problem, fit] = testing::fitFxyz(options);
   EXPECT_EQ(fit.statistics.rank, 5);
   EXPECT_TRUE(fit.statistics.unidentifiable.empty());
   // Internal units: mm, mm/mm, rad. Order of the template keys (std::map): EBX, EC0Y, EXX, EXZ.
@@ -119,8 +93,9 @@ TEST(MachineIdentification, MeasuredAnglesSeparatePitchWithOneToolLength) {
   options.noiseMm = 1e-3;
   options.withAngles = true;
   options.angleNoiseRad = 1e-6;
-  const MeasurementSet data = simulate(testing::machineSpec(fxyzTruth()), options);
-  const auto problem = makeIdentificationProblem(testing::templateDocument(fxyzTemplate()), data);
+  const MeasurementSet data = simulate(testing::machineSpec(testing::fxyzTruth()), options);
+  const auto problem =
+      makeIdentificationProblem(testing::templateDocument(testing::fxyzTemplate()), data);
   EXPECT_EQ(problem->residualsPerObservation(), 6);
   const FitResult fit = solve(*problem, problem->startVector());
   EXPECT_EQ(fit.statistics.rank, 5);
@@ -136,8 +111,9 @@ TEST(MachineIdentification, LinearAndLevenbergMarquardtAgree) {
   SyntheticOptions options;
   options.noiseMm = 1e-3;
   options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
-  const MeasurementSet data = simulate(testing::machineSpec(fxyzTruth()), options);
-  const auto problem = makeIdentificationProblem(testing::templateDocument(fxyzTemplate()), data);
+  const MeasurementSet data = simulate(testing::machineSpec(testing::fxyzTruth()), options);
+  const auto problem =
+      makeIdentificationProblem(testing::templateDocument(testing::fxyzTemplate()), data);
   const FitResult linear = solve(*problem, problem->startVector());
   SolveOptions lm;
   lm.method = Method::LevenbergMarquardt;
@@ -159,11 +135,13 @@ TEST(MachineIdentification, WeightsScaleTheUncertainty) {
   SyntheticOptions options;
   options.noiseMm = 1e-3;
   options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
-  MeasurementSet data = simulate(testing::machineSpec(fxyzTruth()), options);
-  const auto plain = makeIdentificationProblem(testing::templateDocument(fxyzTemplate()), data);
+  MeasurementSet data = simulate(testing::machineSpec(testing::fxyzTruth()), options);
+  const auto plain =
+      makeIdentificationProblem(testing::templateDocument(testing::fxyzTemplate()), data);
   const FitResult a = solve(*plain, plain->startVector());
   for (Measurement& m : data.points) m.weight = 4.0;
-  const auto weighted = makeIdentificationProblem(testing::templateDocument(fxyzTemplate()), data);
+  const auto weighted =
+      makeIdentificationProblem(testing::templateDocument(testing::fxyzTemplate()), data);
   const FitResult b = solve(*weighted, weighted->startVector());
   EXPECT_NEAR(std::sqrt(b.statistics.varianceFactor), 2.0 * std::sqrt(a.statistics.varianceFactor),
               1e-9);
@@ -178,7 +156,7 @@ TEST(MachineIdentification, WeightsScaleTheUncertainty) {
 
 TEST(MachineIdentification, SquarenessAndStraightnessSlopeAreNamedTogether) {
   // EC0Y = c rotates the Y axis about Z: e_x = -c y to first order, the same as EXY c1 = -c.
-  json truth = fxyzTruth();
+  json truth = testing::fxyzTruth();
   json t = truth;
   t["components"] = {
       {"EC0Y", {{"identify", "constant"}}},
@@ -203,7 +181,7 @@ TEST(MachineIdentification, SquarenessAndStraightnessSlopeAreNamedTogether) {
 
 TEST(MachineIdentification, InstrumentFrameRotationIsRecovered) {
   // The laser tracker's frame is turned by (20, -30, 50) urad and shifted by (10, -20, 5) um.
-  json truth = fxyzTruth();
+  json truth = testing::fxyzTruth();
   truth["components"] = {{"EXX", {{"polynomial", {0.0, 0.012}}}},
                          {"EYY", {{"polynomial", {0.0, -0.008}}}},
                          {"EZZ", {{"polynomial", {0.0, 0.005, 1e-5}}}}};
@@ -382,7 +360,7 @@ TEST(MachineIdentification, BatchJacobianMatchesThePointByPointOne) {
 }
 
 TEST(MachineIdentification, TableBasisWithSmoothnessRecoversAPositioningCurve) {
-  json truth = fxyzTruth();
+  json truth = testing::fxyzTruth();
   truth["components"] = {{"EXX",
                           {{"positions", {0, 200, 400, 600, 800}},
                            {"values", {0, 4, 7, 9, 14}},

@@ -15,31 +15,6 @@ namespace {
 using nlohmann::json;
 using testing::SyntheticOptions;
 
-// FXYZ, tool [0, 0, 100]: EXX linear, EBX constant (pitch: Abbe error with the tool length),
-// EXZ linear, EC0Y.
-json truthModel() {
-  return json{{"format", "volcomp-model/1"},
-              {"topology", "FXYZ"},
-              {"tool", {0, 0, 100}},
-              {"travel", {{"X", {0, 800}}, {"Y", {0, 500}}, {"Z", {-400, 0}}}},
-              {"error_units", {{"length", "um"}, {"angle", "urad"}}},
-              {"components",
-               {{"EXX", {{"polynomial", {3.0, 0.012}}}},
-                {"EBX", 25.0},
-                {"EXZ", {{"polynomial", {0.0, -0.02}}}},
-                {"EC0Y", 15.0}}}};
-}
-
-json templateModel() {
-  json t = truthModel();
-  t["components"] = {
-      {"EXX", {{"identify", {{"basis", "polynomial"}, {"degree", 1}}}}},
-      {"EBX", {{"identify", "constant"}}},
-      {"EXZ", {{"identify", {{"basis", "polynomial"}, {"degree", 1}, {"zero_at", 0}}}}},
-      {"EC0Y", {{"identify", "constant"}}}};
-  return t;
-}
-
 // The predicted error at `at` and its sensitivity where the fit's statistics were linearised.
 Eigen::Vector3d predict(const IdentificationProblem& problem, const FitResult& fit,
                         const PredictionPoint& at, Eigen::MatrixXd& g) {
@@ -50,7 +25,7 @@ Eigen::Vector3d predict(const IdentificationProblem& problem, const FitResult& f
 }
 
 Eigen::Vector3d trueError(const Eigen::Vector3d& q, const Eigen::Vector3d& tool) {
-  const model::MachineModel truth(testing::machineSpec(truthModel()));
+  const model::MachineModel truth(testing::machineSpec(testing::fxyzTruth()));
   model::Workspace ws;
   return model::evaluate(truth, ws, q, tool).errorMm;
 }
@@ -68,9 +43,9 @@ TEST(Prediction, SigmaMatchesTheScatterOfRepeatedFits) {
     options.noiseMm = 1e-3;
     options.seed = seed;
     options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
-    const MeasurementSet data = simulate(testing::machineSpec(truthModel()), options);
+    const MeasurementSet data = simulate(testing::machineSpec(testing::fxyzTruth()), options);
     const auto problem =
-        makeIdentificationProblem(testing::templateDocument(templateModel()), data);
+        makeIdentificationProblem(testing::templateDocument(testing::fxyzTemplate()), data);
     const FitResult fit = solve(*problem, problem->startVector());
     PredictionPoint at;
     at.qMm = q;
@@ -97,9 +72,7 @@ TEST(Prediction, AnUnmeasuredToolLengthIsNotDeterminedWhenPitchIsNotSeparable) {
   // combination the data cannot see.
   SyntheticOptions options;
   options.noiseMm = 1e-4;
-  const MeasurementSet data = simulate(testing::machineSpec(truthModel()), options);
-  const auto problem = makeIdentificationProblem(testing::templateDocument(templateModel()), data);
-  const FitResult fit = solve(*problem, problem->startVector());
+  const auto [problem, fit] = testing::fitFxyz(options);
   ASSERT_EQ(fit.statistics.rank, 4);
   Eigen::MatrixXd g(3, problem->parameterCount());
   PredictionPoint at;
@@ -119,9 +92,7 @@ TEST(Prediction, CurvesCarryTheirSigmaAndTheirShapeWhereTheConstantIsShared) {
   SyntheticOptions options;
   options.noiseMm = 1e-3;
   options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
-  const MeasurementSet data = simulate(testing::machineSpec(truthModel()), options);
-  const auto problem = makeIdentificationProblem(testing::templateDocument(templateModel()), data);
-  const FitResult fit = solve(*problem, problem->startVector());
+  const auto [problem, fit] = testing::fitFxyz(options);
   const std::vector<Curve> curves = problem->curves();
   ASSERT_EQ(curves.size(), 3u);  // EBX, EXX, EXZ (location errors are not curves)
   const Curve& exx = curves[1];

@@ -37,15 +37,8 @@ class RunCalibrate : public ::testing::Test {
 
   // Measurements of the FXYZ truth below with two tool lengths, as CSV text.
   static std::string measurementCsv(unsigned seed = 1) {
-    const json truth{{"format", "volcomp-model/1"},
-                     {"topology", "FXYZ"},
-                     {"travel", {{"X", {0, 800}}, {"Y", {0, 500}}, {"Z", {-400, 0}}}},
-                     {"tool", {0, 0, 100}},
-                     {"error_units", {{"length", "um"}, {"angle", "urad"}}},
-                     {"components",
-                      {{"EXX", {{"polynomial", {3.0, 0.012}}}},
-                       {"EBX", 25.0},
-                       {"EXZ", {{"polynomial", {0.0, -0.02}}}}}}};
+    json truth = testing::fxyzTruth();
+    truth["components"].erase("EC0Y");
     testing::SyntheticOptions options;
     options.tools = {Eigen::Vector3d(0, 0, 100), Eigen::Vector3d(0, 0, 250)};
     options.noiseMm = 5e-4;
@@ -198,6 +191,27 @@ TEST_F(RunCalibrate, TemplateWithoutIdentifyBlocksIsRejected) {
     EXPECT_EQ(e.file(), options.templatePath);
   }
   EXPECT_FALSE(fs::exists(options.outPath));
+}
+
+TEST_F(RunCalibrate, APolynomialWithoutTravelIsRefusedBeforeAnythingIsWritten) {
+  // The model reader refuses such a polynomial: calibrate refuses the template instead of
+  // writing a model nobody can load.
+  json t = json::parse(templateText(false));
+  t.erase("travel");
+  CalibrateOptions options = defaults();
+  options.templatePath = write("template.json", t.dump());
+  std::ostringstream out;
+  try {
+    runCalibrate(options, out);
+    FAIL() << "expected a ConfigError";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.file(), options.templatePath);
+    EXPECT_EQ(e.keyPath(), "components.EXX.identify");
+    EXPECT_NE(std::string(e.what()).find("needs the travel of axis X"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(options.outPath));
+  EXPECT_FALSE(fs::exists(options.reportPath));
 }
 
 TEST_F(RunCalibrate, RobustLossWithTheLinearMethodIsAnOptionError) {

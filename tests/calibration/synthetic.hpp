@@ -3,6 +3,7 @@
 // on a grid of points and tools, optionally seen through a rotated/shifted instrument frame, plus
 // Gaussian noise.
 
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "volcomp/calibration/identification.hpp"
 #include "volcomp/calibration/measurements.hpp"
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/model/machine_model.hpp"
@@ -35,6 +37,45 @@ struct SyntheticOptions {
   std::vector<model::Directions> directions{model::Directions{}};
 };
 
+/// FXYZ, tool [0, 0, 100], travel 0..800 x 0..500 x -400..0 mm (the synthetic points' box: a
+/// polynomial needs the travel it holds over): EXX 3 um + 0.012 um/mm, EBX 25 urad (pitch: Abbe
+/// error with the tool length), EXZ -0.02 um/mm (zero at 0), EC0Y 15 urad.
+inline nlohmann::json fxyzTruth() {
+  return nlohmann::json{{"format", "volcomp-model/1"},
+                        {"topology", "FXYZ"},
+                        {"travel", {{"X", {0, 800}}, {"Y", {0, 500}}, {"Z", {-400, 0}}}},
+                        {"tool", {0, 0, 100}},
+                        {"error_units", {{"length", "um"}, {"angle", "urad"}}},
+                        {"components",
+                         {{"EXX", {{"polynomial", {3.0, 0.012}}}},
+                          {"EBX", 25.0},
+                          {"EXZ", {{"polynomial", {0.0, -0.02}}}},
+                          {"EC0Y", 15.0}}}};
+}
+
+/// fxyzTruth() with every component to identify: EXX linear, EBX constant, EXZ linear with
+/// zero_at 0, EC0Y constant (5 parameters).
+inline nlohmann::json fxyzTemplate() {
+  nlohmann::json t = fxyzTruth();
+  t["components"] = {
+      {"EXX", {{"identify", {{"basis", "polynomial"}, {"degree", 1}}}}},
+      {"EBX", {{"identify", "constant"}}},
+      {"EXZ", {{"identify", {{"basis", "polynomial"}, {"degree", 1}, {"zero_at", 0}}}}},
+      {"EC0Y", {{"identify", "constant"}}}};
+  return t;
+}
+
+/// A rows x columns matrix of standard normal entries (reproducible per seed).
+inline Eigen::MatrixXd randomMatrix(int rows, int columns, unsigned seed) {
+  std::mt19937 generator(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd m(rows, columns);
+  for (int i = 0; i < rows; ++i) {
+    for (int j = 0; j < columns; ++j) m(i, j) = normal(generator);
+  }
+  return m;
+}
+
 inline model::MachineModelSpec machineSpec(const nlohmann::json& document) {
   return std::get<model::MachineModelSpec>(config::parseModel(document, "truth.json").spec);
 }
@@ -57,40 +98,53 @@ inline MeasurementSet simulate(const model::MachineModelSpec& truth,
   set.file = "synthetic.csv";
   set.hasTool = true;
   set.hasAngles = options.withAngles;
-  set.hasDirection = options.directions.size() > 1 ||
-                     options.directions.front() != model::Directions{};
+  set.hasDirection =
+      options.directions.size() > 1 || options.directions.front() != model::Directions{};
   std::normal_distribution<double> angleNoise(0.0, options.angleNoiseRad);
   int line = 2;
   for (const model::Directions& directions : options.directions) {
-  for (const Eigen::Vector3d& tool : options.tools) {
-    for (double x : options.x) {
-      for (double y : options.y) {
-        for (double z : options.z) {
-          Measurement m;
-          m.qMm = {x, y, z};
-          m.toolMm = tool;
-          m.directions = directions;
-          const model::PointError error = model::evaluate(model, ws, m.qMm, tool, directions);
-          const Eigen::Vector3d nominal = m.qMm + tool - truth.workpieceMm;
-          m.errorMm = rotation * (nominal + error.errorMm) + options.frameTranslationMm - nominal;
-          if (options.noiseMm > 0.0) {
-            m.errorMm += Eigen::Vector3d(noise(generator), noise(generator), noise(generator));
-          }
-          if (options.withAngles) {
-            m.angularErrorRad = error.angularErrorRad;
-            if (options.angleNoiseRad > 0.0) {
-              m.angularErrorRad += Eigen::Vector3d(angleNoise(generator), angleNoise(generator),
-                                                   angleNoise(generator));
+    for (const Eigen::Vector3d& tool : options.tools) {
+      for (double x : options.x) {
+        for (double y : options.y) {
+          for (double z : options.z) {
+            Measurement m;
+            m.qMm = {x, y, z};
+            m.toolMm = tool;
+            m.directions = directions;
+            const model::PointError error = model::evaluate(model, ws, m.qMm, tool, directions);
+            const Eigen::Vector3d nominal = m.qMm + tool - truth.workpieceMm;
+            m.errorMm = rotation * (nominal + error.errorMm) + options.frameTranslationMm - nominal;
+            if (options.noiseMm > 0.0) {
+              m.errorMm += Eigen::Vector3d(noise(generator), noise(generator), noise(generator));
             }
+            if (options.withAngles) {
+              m.angularErrorRad = error.angularErrorRad;
+              if (options.angleNoiseRad > 0.0) {
+                m.angularErrorRad += Eigen::Vector3d(angleNoise(generator), angleNoise(generator),
+                                                     angleNoise(generator));
+              }
+            }
+            m.line = line++;
+            set.points.push_back(m);
           }
-          m.line = line++;
-          set.points.push_back(m);
         }
       }
     }
   }
-  }
   return set;
+}
+
+/// fxyzTruth() measured as `options` say, and fxyzTemplate() fitted to it (linear method).
+struct FxyzFit {
+  std::unique_ptr<IdentificationProblem> problem;
+  FitResult fit;
+};
+inline FxyzFit fitFxyz(const SyntheticOptions& options) {
+  FxyzFit result;
+  result.problem = makeIdentificationProblem(templateDocument(fxyzTemplate()),
+                                             simulate(machineSpec(fxyzTruth()), options));
+  result.fit = solve(*result.problem, result.problem->startVector());
+  return result;
 }
 
 }  // namespace volcomp::calibration::testing

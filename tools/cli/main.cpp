@@ -14,9 +14,9 @@
 #include "eval_verb.hpp"
 #include "export_verb.hpp"
 #include "iso230_2_verb.hpp"
-#include "report_verb.hpp"
-#include "plan_verb.hpp"
 #include "nc_verb.hpp"
+#include "plan_verb.hpp"
+#include "report_verb.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/printable.hpp"
 #include "volcomp/model/types.hpp"
@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
     if (report->parsed()) return runReport(reportOptions, std::cout, std::cerr);
     if (plan->parsed()) {
       resolvePlanArguments(planArguments);
+      planArguments.options.progress = &std::cerr;
       return volcomp::calibration::runPlan(planArguments.options, std::cout);
     }
     if (ncVerb->parsed()) return runNc(ncOptions, std::cerr);

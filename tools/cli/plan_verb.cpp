@@ -12,7 +12,7 @@ CLI::App* addPlanVerb(CLI::App& app, PlanArguments& arguments) {
       "plan",
       "Plan a calibration measurement: choose the N points (and tool offsets) among candidates "
       "that identify the template's parameters best (D-optimal on what the candidates can "
-      "identify, which also minimises the largest prediction variance), and print the sigma "
+      "identify, or I-optimal on the mean prediction variance), and print the sigma "
       "each parameter and the predicted error will have for a given instrument noise, before "
       "anyone measures.");
   verb->add_option("template", options.templatePath, "Calibration template (volcomp-model/1)")
@@ -39,6 +39,12 @@ CLI::App* addPlanVerb(CLI::App& app, PlanArguments& arguments) {
                    "Relative singular-value threshold of the rank decision (as calibrate)")
       ->capture_default_str()
       ->check(CLI::Range(1e-16, 0.5));
+  verb->add_option("--criterion", options.criterion,
+                   "d: D-optimal (volume of the parameters' confidence region); i: then an "
+                   "I-optimal exchange on the mean prediction variance over the candidates "
+                   "(docs/calibration.md gives figures for both)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"d", "i"}));
   verb->add_option("--out", options.outPath,
                    "Write the chosen points as CSV x,y,z,tx,ty,tz (mm), tool by tool");
   verb->add_option("--report", options.reportPath, "Write the plan as JSON");

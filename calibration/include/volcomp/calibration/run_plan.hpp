@@ -1,10 +1,11 @@
 #pragma once
 /// `volcomp plan TEMPLATE.json (--candidates CANDIDATES.csv | --grid NX,NY,NZ) --points N
-/// [--tools "TX,TY,TZ;..."] [--noise MM] [--out PLAN.csv] [--report PLAN.json]`: the verb behind
-/// the CLI's argument parsing (see planning.hpp for the criterion).
+/// [--tools "TX,TY,TZ;..."] [--noise MM] [--criterion d|i] [--out PLAN.csv] [--report PLAN.json]`:
+/// the verb behind the CLI's argument parsing (see planning.hpp for the criterion).
 
 #include <array>
 #include <iosfwd>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,11 @@ struct PlanVerbOptions {
   std::string outPath;     ///< the chosen points as CSV x,y,z,tx,ty,tz [,direction]
   std::string reportPath;  ///< JSON report
   std::string angleUnit = "urad";
+  /// "d" (D-optimal, the default) or "i" (then an I-optimal exchange on the mean prediction
+  /// variance over the candidates, started from the D-optimal design).
+  std::string criterion = "d";
+  /// Where the progress lines of the exchanges go (the CLI: stderr); null: into `out`.
+  std::ostream* progress = nullptr;
 };
 
 /// Plans and prints the expected uncertainties; returns 0 (a rank-deficient design is reported,

@@ -149,7 +149,8 @@ TEST_P(TimingFaults, DaemonStoppedBetweenReadAndWriteNeverWritesFromTheOldReadBa
   expectWritesWithinLimits(before, kMaxOffsetMm, kMaxRateMmS, periodMs() / 1000.0);
   expectWritesWithinLimits(after, kMaxOffsetMm, kMaxRateMmS, periodMs() / 1000.0);
   for (const WriteRow& row : rows) EXPECT_FALSE(row.violation) << "t=" << row.tS;
-  EXPECT_GT(largestAbs(rows[gap - 1].offsetMm), 0.02);
+  // At least the 20 um waited for above (the pause often catches the very write that reached it).
+  EXPECT_GE(largestAbs(rows[gap - 1].offsetMm), 0.02 - 1e-9);
   EXPECT_LT(largestAbs(rows[gap].offsetMm), largestAbs(rows[gap - 1].offsetMm) - 0.01)
       << "the first write after the pause continues from the ramped-out offsets";
   EXPECT_GE(lateReadsLogged(daemonLog()), 1) << daemonLog();

@@ -131,7 +131,6 @@ TEST(OffsetCounts, CountsWrapAtTheEndsOfTheThirtyTwoBitPinAsLinuxCncDifferencesT
 
 TEST(OffsetCounts, NonFiniteInputsHoldTheCounts) {
   OffsetCounts c(kCountsPerMm);
-  FakeMotion m;
   c.adopt(7);
   const std::int32_t held = c.next(std::numeric_limits<double>::quiet_NaN(), true, 0.0);
   EXPECT_EQ(held, 7);

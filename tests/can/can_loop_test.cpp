@@ -5,8 +5,10 @@
 #include <atomic>
 #include <cstdlib>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <linux/can/error.h>
 #include <asio/executor_work_guard.hpp>
 #include <asio/post.hpp>
 #include <asio/steady_timer.hpp>
@@ -197,6 +199,130 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
   EXPECT_EQ(finalReport["limiter_violations"], 0) << finalReport["first_violation"];
   EXPECT_GT(activeCycles, param.sync ? 150u : 300u);
   // The daemon's last write is zero offsets with status 0 (stopping), and the controller holds it.
+  const auto writes = machine.writes();
+  ASSERT_FALSE(writes.empty());
+  EXPECT_EQ(writes.back().status, 0);
+  for (double o : writes.back().offsetMm) EXPECT_EQ(o, 0.0);
+}
+
+// A hostile node on the same bus, at full rate (as fast as the socket takes frames, no pause):
+// short and remote frames on the input identifiers, 64-byte FD frames, unknown identifiers, and
+// error frames announcing error-passive and bus-off, while the real controller keeps answering.
+// The daemon faults (bus-off) and ramps out, never writes past the limiter, does not crash, and
+// compensates again once the hostile node stops and the controller reports it restarted.
+TEST(CanHostileNode, FaultsSafelyAndRecoversWhenThePeerBehaves) {
+  const auto start = std::chrono::steady_clock::now();
+  auto nowS = [start] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  sim::Travel travel;
+  sim::MachineOptions options;
+  options.limits.maxOffsetMm = {0.5, 0.5, 0.5};
+  options.limits.maxRateMmS = {0.2, 0.2, 0.2};
+  options.limits.rateToleranceS = 0.010;
+  options.limits.quantumMm = {0.0001, 0.0001, 0.0001};
+  sim::Machine machine(sim::Path::circle({425.0, 250.0, -250.0}, 150.0, 3000.0),
+                       sim::loadTrueError(modelFile(), &travel), options);
+  asio::io_context simIo;
+  auto work = asio::make_work_guard(simIo);
+  const CanLayout layout = config::loadCanLayout(loopConfig(false), "can-loop.json", "transport");
+  sim::CanSimNode node(
+      simIo, layout,
+      {[&](double t) { return machine.inputs(t); },
+       [&](double t, const loop::OffsetCommand& c) { machine.onWrite(t, c); }, nowS},
+      2ms);
+  ASSERT_FALSE(node.start());
+  std::thread simThread([&] { simIo.run(); });
+
+  loop::LoopSettings settings;
+  settings.period = 10ms;
+  settings.limiter = volcomp::loop::LimiterSettings::uniform(0.5, 0.2);
+  settings.staleTimeout = 200ms;
+  settings.offsetReadback = true;
+  // Recovery when the peer behaves is the point here; acknowledging a latched fault is tested
+  // with the loop's fakes.
+  settings.faultLatch = false;
+  loop::SteadyClock clock;
+  CanControllerPort port(layout);
+  loop::CompensationLoop loop(port, clock, daemon::loadCompensationModel(modelFile()), settings);
+
+  std::atomic<bool> quit{false};
+  std::atomic<std::uint64_t> sent{0};
+  auto flood = [&] {
+    test::PeerSocket peer;
+    if (!peer.ok()) return;
+    const std::vector<std::uint8_t> two(2, 0xFF), eight(8, 0xA5), sixtyFour(64, 0x5A);
+    std::vector<std::uint8_t> passive(8, 0);
+    passive[1] = CAN_ERR_CRTL_RX_PASSIVE;
+    while (!quit) {
+      for (canid_t id : {0x100u, 0x101u, 0x102u}) {
+        sent += peer.send(id, two) ? 1 : 0;                   // too short for its signals
+        sent += peer.send(id | CAN_RTR_FLAG, {}) ? 1 : 0;     // remote request
+        sent += peer.sendFd(id, sixtyFour) ? 1 : 0;           // oversized (FD on a classical link)
+        sent += peer.send(id | CAN_EFF_FLAG, eight) ? 1 : 0;  // right id, other format
+      }
+      sent += peer.send(0x7FF, eight) ? 1 : 0;
+      sent += peer.send(CAN_ERR_FLAG | CAN_ERR_CRTL, passive) ? 1 : 0;
+      sent += peer.send(CAN_ERR_FLAG | CAN_ERR_BUSOFF, eight) ? 1 : 0;
+    }
+  };
+
+  std::uint64_t activeBefore = 0, faultCycles = 0, activeAfter = 0;
+  auto deadline = std::chrono::steady_clock::now();
+  auto run = [&](std::chrono::milliseconds span, std::uint64_t& active, std::uint64_t* faults) {
+    const auto until = deadline + span;
+    while (deadline < until) {
+      const loop::CycleReport report = loop.step();
+      if (report.state == loop::LoopState::Active) ++active;
+      if (faults && report.state == loop::LoopState::Fault) ++*faults;
+      deadline += settings.period;
+      std::this_thread::sleep_until(deadline);  // the loop's own period
+    }
+  };
+  run(2000ms, activeBefore, nullptr);
+  std::thread hostile(flood);
+  std::uint64_t activeDuring = 0;
+  run(2000ms, activeDuring, &faultCycles);
+  quit = true;
+  hostile.join();
+  {
+    // The controller restarted: error-active again.
+    test::PeerSocket peer;
+    ASSERT_TRUE(peer.ok());
+    ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_RESTARTED, std::vector<std::uint8_t>(8, 0)));
+  }
+  run(3000ms, activeAfter, nullptr);
+  loop.requestStop();
+  for (int i = 0; i < 1000 && !loop.finished(); ++i) {
+    loop.step();
+    deadline += settings.period;
+    std::this_thread::sleep_until(deadline);
+  }
+  EXPECT_TRUE(loop.finished());
+  EXPECT_TRUE(testutil::waitUntil([&] {
+    const auto writes = machine.writes();
+    return !writes.empty() && writes.back().status == 0;
+  }));
+  const json report = machine.report(nowS());
+  asio::post(simIo, [&] { node.stop(); });
+  work.reset();
+  simThread.join();
+
+  std::cout << "hostile node: " << sent << " frames sent; driver: malformed "
+            << port.stats().malformedFrames << ", unknown " << port.stats().unknownFrames
+            << ", error frames " << port.stats().errorFrames << ", bus-off events "
+            << port.stats().busOffEvents << " (" << port.stats().busOffEndedByCarrier
+            << " ended by the carrier without a restart report); loop: active " << activeBefore
+            << " before, " << activeDuring << " during, " << activeAfter << " after, fault cycles "
+            << faultCycles << std::endl;
+  EXPECT_GT(sent, 1000u);
+  EXPECT_GT(port.stats().malformedFrames, 100u);
+  EXPECT_GT(port.stats().busOffEvents, 0u);
+  EXPECT_GT(activeBefore, 50u);
+  EXPECT_GT(faultCycles, 0u) << "the flood must fault the loop (bus-off)";
+  EXPECT_GT(activeAfter, 100u) << "the loop must compensate again once the peer behaves";
+  EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
+  EXPECT_EQ(report["partial_writes"], 0);
   const auto writes = machine.writes();
   ASSERT_FALSE(writes.empty());
   EXPECT_EQ(writes.back().status, 0);

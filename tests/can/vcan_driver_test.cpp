@@ -173,6 +173,30 @@ TEST_F(VcanDriver, BusOffErrorFrameIsAFaultUntilRestart) {
   EXPECT_EQ(sample.sequence, 2);
 }
 
+// A restart report lost (a flooded receive queue drops it): the interface's carrier, which the
+// kernel's CAN drivers take down at bus-off and raise at the restart, ends bus-off once no
+// bus-off report has come for the stale timeout. vcan always has its carrier.
+TEST_F(VcanDriver, BusOffWithoutARestartReportEndsWithTheCarrierAfterTheStaleTimeout) {
+  auto port = makePort(test::testConfig("broadcast", 200.0));
+  const auto staleTimeout = port->layout().staleTimeout;
+  sendSet(1);
+  loop::AxisSample sample;
+  ASSERT_FALSE(port->read(sample));
+  const auto reported = std::chrono::steady_clock::now();
+  ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_BUSOFF, std::vector<std::uint8_t>(8, 0)));
+  ASSERT_TRUE(testutil::waitUntil([&] { return port->read(sample) == Errc::BusOff; }));
+  EXPECT_EQ(port->write(loop::OffsetCommand{}), Errc::BusOff);
+  ASSERT_TRUE(testutil::waitUntil(
+      [&] { return port->write(loop::OffsetCommand{}) != Errc::BusOff; },
+      std::chrono::duration_cast<std::chrono::milliseconds>(10 * staleTimeout)));
+  EXPECT_GE(std::chrono::steady_clock::now() - reported, staleTimeout);
+  EXPECT_EQ(port->busState(), BusState::ErrorActive);
+  EXPECT_EQ(port->stats().busOffEndedByCarrier, 1u);
+  sendSet(2);
+  ASSERT_TRUE(testutil::waitUntil([&] { return !port->read(sample); }));
+  EXPECT_EQ(sample.sequence, 2);
+}
+
 TEST_F(VcanDriver, ErrorPassiveIsAFaultButOffsetsCanStillBeWritten) {
   auto port = makePort(test::testConfig());
   std::vector<std::uint8_t> details(8, 0);

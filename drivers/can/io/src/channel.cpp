@@ -57,6 +57,7 @@ std::error_code Channel::open(const std::string& interfaceName, bool fd,
     return std::make_error_code(std::errc::network_down);
   }
   fd_ = fd;
+  std::memcpy(interfaceName_, request.ifr_name, IFNAMSIZ);
   if (fd) socket_.set_option(FdFramesOption(true), ec);
   if (!ec && !filters.empty()) socket_.set_option(FilterOption(filters.data(), filters.size()), ec);
   if (!ec) socket_.set_option(ErrorFilterOption(&errorMask, 1), ec);
@@ -68,6 +69,14 @@ std::error_code Channel::open(const std::string& interfaceName, bool fd,
   }
   receive();
   return {};
+}
+
+bool Channel::carrierUp() noexcept {
+  if (!socket_.is_open()) return false;
+  ifreq request{};
+  std::memcpy(request.ifr_name, interfaceName_, IFNAMSIZ);
+  return ::ioctl(socket_.native_handle(), SIOCGIFFLAGS, &request) == 0 &&
+         (request.ifr_flags & IFF_RUNNING) != 0;
 }
 
 void Channel::close() noexcept {

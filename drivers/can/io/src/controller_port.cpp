@@ -90,7 +90,12 @@ std::error_code CanControllerPort::linkDown() noexcept {
   return std::make_error_code(std::errc::network_down);
 }
 
-std::error_code CanControllerPort::busError() const noexcept {
+std::error_code CanControllerPort::busError() noexcept {
+  if (busState_ == BusState::BusOff && Clock::now() - lastBusOffReport_ >= layout_.staleTimeout &&
+      channel_.carrierUp()) {
+    busState_ = BusState::ErrorActive;
+    ++stats_.busOffEndedByCarrier;
+  }
   if (busState_ == BusState::BusOff) return Errc::BusOff;
   if (busState_ == BusState::ErrorPassive) return Errc::ErrorPassive;
   return {};
@@ -149,7 +154,7 @@ std::error_code CanControllerPort::write(const loop::OffsetCommand& command) noe
   if (!channel_.isOpen()) return std::make_error_code(std::errc::not_connected);
   pump();
   if (linkLost_) return linkDown();
-  if (busState_ == BusState::BusOff) return Errc::BusOff;
+  if (busError() == Errc::BusOff) return Errc::BusOff;
 
   for (std::size_t i = 0; i < txFrames_.size(); ++i) {
     Frame& frame = txFrames_[i];
@@ -276,6 +281,7 @@ void CanControllerPort::onErrorFrame(std::uint32_t errorClass, const Frame& fram
   if ((errorClass & CAN_ERR_BUSOFF) != 0) {
     if (busState_ != BusState::BusOff) ++stats_.busOffEvents;
     busState_ = BusState::BusOff;
+    lastBusOffReport_ = Clock::now();
     return;
   }
   if ((errorClass & CAN_ERR_RESTARTED) != 0) busState_ = BusState::ErrorActive;

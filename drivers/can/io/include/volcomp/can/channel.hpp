@@ -3,6 +3,8 @@
 /// asynchronous receive pending (no thread of its own: frames are handled whenever the owner runs
 /// or polls the io_context), and sends frames without ever blocking.
 
+#include <net/if.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -60,6 +62,11 @@ class Channel {
   void close() noexcept;
   bool isOpen() const noexcept { return socket_.is_open(); }
 
+  /// True when the interface reports a carrier (IFF_RUNNING). A CAN controller's kernel driver
+  /// takes the carrier down when the controller goes bus-off and up again when it restarts, so
+  /// this is the bus-off state at the source, whatever error frames were lost on the way.
+  bool carrierUp() noexcept;
+
   /// Sends one frame without blocking (see mapSocketError for the errors). `bitrateSwitch` sets
   /// BRS on CAN FD frames. noexcept and allocation-free.
   std::error_code send(const Frame& frame, bool bitrateSwitch = false) noexcept;
@@ -72,6 +79,7 @@ class Channel {
   FrameReceiver& receiver_;
   canfd_frame rx_{};
   bool fd_ = false;
+  char interfaceName_[IFNAMSIZ] = {};
 };
 
 }  // namespace volcomp::can

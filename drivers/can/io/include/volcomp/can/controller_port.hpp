@@ -17,7 +17,11 @@
 /// Errors:  interface down or gone -> std::errc::network_down (a link error: the socket is
 ///          closed, connect() reopens it once the interface is up again); error frames reporting
 ///          bus-off / error-passive -> BusOff / ErrorPassive from read() (write() refuses only on
-///          bus-off) until the controller reports error-active or restarted again.
+///          bus-off) until the controller reports error-active or restarted again. Bus-off also
+///          ends when the interface has its carrier (the kernel's CAN drivers drop it at bus-off
+///          and raise it at the restart) and no bus-off report has come for the stale timeout:
+///          a restart report lost to a full receive queue (a flooded bus) does not leave the
+///          daemon refusing to write for ever.
 ///          Frames too short for their signals, undecodable values (NaN float, outside the DBC
 ///          range), remote requests and bad sizes are ignored and counted.
 
@@ -47,6 +51,7 @@ struct CanStats {
   std::uint64_t txDropped = 0;        ///< frames dropped because the transmit queue was full
   std::uint64_t errorFrames = 0;
   std::uint64_t busOffEvents = 0;
+  std::uint64_t busOffEndedByCarrier = 0;  ///< bus-off left without a restart report (see above)
   std::uint64_t errorPassiveEvents = 0;
   std::uint64_t completeSets = 0;     ///< complete, consistent input sets assembled
   std::uint64_t discardedFrames = 0;  ///< input frames superseded by a newer sequence counter
@@ -94,7 +99,7 @@ class CanControllerPort final : public loop::ControllerPort, private FrameReceiv
   void pump() noexcept;
   void completeIfConsistent(std::size_t newest) noexcept;
   std::error_code linkDown() noexcept;
-  std::error_code busError() const noexcept;
+  std::error_code busError() noexcept;
   std::error_code waitForSet(std::chrono::steady_clock::time_point deadline) noexcept;
 
   CanLayout layout_;
@@ -110,6 +115,7 @@ class CanControllerPort final : public loop::ControllerPort, private FrameReceiv
   bool linkLost_ = false;
   std::chrono::steady_clock::time_point setTime_{};
   std::chrono::steady_clock::time_point connectTime_{};
+  std::chrono::steady_clock::time_point lastBusOffReport_{};
   BusState busState_ = BusState::ErrorActive;
   std::error_code lastLinkError_;
   CanStats stats_;

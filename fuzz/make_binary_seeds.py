@@ -96,3 +96,28 @@ errors += datagram(256, positions(1, 2, 3) + bytes(4), size=0)  # 12 bytes in a 
 errors += datagram(CAN_EFF_FLAG | 256, positions(1, 2, 3))  # right id, other format
 errors += datagram(257, bytes(4))  # too short
 write("can_frames", "hostile-mix", bytes([0]) + errors + cycle(9))
+
+
+# modbus_server_requests: PDUs a master sends to the example server bank (positions 0-5, flags 6,
+# life counter 7, applied offsets 8-13; outputs 14-21), each a length byte and the PDU.
+def pdu(*parts):
+    body = b"".join(parts)
+    return bytes([len(body)]) + body
+
+
+def be(*values):
+    return b"".join(struct.pack(">H", v & 0xFFFF) for v in values)
+
+
+cycle_tcp = (pdu(bytes([16]), be(0, 14), bytes([28]), be(*range(14))) +  # write the input block
+             pdu(bytes([3]), be(14, 8)))  # read the outputs
+write("modbus_server_requests", "fc16-fc03-cycle", cycle_tcp + cycle_tcp)
+write("modbus_server_requests", "fc23-cycle",
+      pdu(bytes([23]), be(14, 8, 0, 14), bytes([28]), be(*range(14))))
+write("modbus_server_requests", "piecewise-and-refused",
+      pdu(bytes([6]), be(0, 1)) + pdu(bytes([6]), be(1, 2)) +
+      pdu(bytes([16]), be(2, 4), bytes([8]), be(1, 2, 3, 4)) +
+      pdu(bytes([22]), be(6, 0xFFFC, 3)) +
+      pdu(bytes([16]), be(12, 4), bytes([8]), be(0, 0, 0, 0)) +  # into the outputs: refused
+      pdu(bytes([3]), be(20, 4)) + pdu(bytes([4]), be(0, 1)) +  # past the bank; input registers
+      pdu(bytes([3])) + pdu(b""))

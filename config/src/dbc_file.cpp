@@ -2,10 +2,9 @@
 
 #include <cctype>
 #include <charconv>
-#include <fstream>
-#include <sstream>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/text_input.hpp"
 
 namespace volcomp::config {
 namespace {
@@ -221,11 +220,7 @@ DbcDatabase parseDbc(std::string_view text, const std::string& file) {
 }
 
 DbcDatabase readDbcFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path, "", "cannot read the DBC file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseDbc(text.str(), path);
+  return parseDbc(readTextFile(path), path);
 }
 
 }  // namespace volcomp::config

@@ -139,5 +139,16 @@ TEST(Dbc, MissingFileIsAConfigError) {
   EXPECT_THROW(readDbcFile("/nonexistent/volcomp.dbc"), config::ConfigError);
 }
 
+// A directory named as the DBC file is named as such (through the bounded file reader, which
+// also refuses files larger than 64 MiB), not parsed as an empty database.
+TEST(Dbc, ADirectoryIsNamedAsSuch) {
+  try {
+    readDbcFile(VOLCOMP_CAN_TEST_DATA);
+    FAIL() << "a directory was read as a DBC file";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace volcomp::can

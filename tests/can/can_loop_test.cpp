@@ -81,6 +81,25 @@ struct LoopCase {
 
 class CanWholeLoop : public ::testing::TestWithParam<LoopCase> {};
 
+/// Stops the loop, stepping it at its period until it has finished, and waits until the
+/// simulator has taken its last write (status 0) off the socket.
+void stopAndWaitForTheLastWrite(loop::CompensationLoop& loop,
+                                std::chrono::steady_clock::time_point& deadline,
+                                std::chrono::nanoseconds period, const sim::Machine& machine) {
+  loop.requestStop();
+  for (int i = 0; i < 1000 && !loop.finished(); ++i) {
+    loop.step();
+    deadline += period;
+    std::this_thread::sleep_until(deadline);  // the loop's own period
+  }
+  EXPECT_TRUE(loop.finished());
+  EXPECT_TRUE(testutil::waitUntil([&] {
+    const auto writes = machine.writes();
+    return !writes.empty() && writes.back().status == 0;
+  })) << "last status seen by the simulator: "
+      << (machine.writes().empty() ? -1 : machine.writes().back().status);
+}
+
 TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
   const LoopCase param = GetParam();
   const auto start = std::chrono::steady_clock::now();
@@ -158,19 +177,7 @@ TEST_P(CanWholeLoop, CompensatesTheSimulatedMachineWithinTheLimits) {
   // The error statistics cover compensated running; the stop (offsets ramp out) comes after.
   const json report = machine.report(nowS());
   std::cout << "whole loop: " << activeCycles << " active cycles, stopping" << std::endl;
-  loop.requestStop();
-  for (int i = 0; i < 1000 && !loop.finished(); ++i) {
-    loop.step();
-    deadline += settings.period;
-    std::this_thread::sleep_until(deadline);
-  }
-  EXPECT_TRUE(loop.finished());
-  // The simulator's thread may not have taken the last frames off its socket yet.
-  EXPECT_TRUE(testutil::waitUntil([&] {
-    const auto writes = machine.writes();
-    return !writes.empty() && writes.back().status == 0;
-  })) << "last status seen by the simulator: "
-      << (machine.writes().empty() ? -1 : machine.writes().back().status);
+  stopAndWaitForTheLastWrite(loop, deadline, settings.period, machine);
 
   const json finalReport = machine.report(nowS());
   asio::post(simIo, [&] {
@@ -292,17 +299,7 @@ TEST(CanHostileNode, FaultsSafelyAndRecoversWhenThePeerBehaves) {
     ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_RESTARTED, std::vector<std::uint8_t>(8, 0)));
   }
   run(3000ms, activeAfter, nullptr);
-  loop.requestStop();
-  for (int i = 0; i < 1000 && !loop.finished(); ++i) {
-    loop.step();
-    deadline += settings.period;
-    std::this_thread::sleep_until(deadline);
-  }
-  EXPECT_TRUE(loop.finished());
-  EXPECT_TRUE(testutil::waitUntil([&] {
-    const auto writes = machine.writes();
-    return !writes.empty() && writes.back().status == 0;
-  }));
+  stopAndWaitForTheLastWrite(loop, deadline, settings.period, machine);
   const json report = machine.report(nowS());
   asio::post(simIo, [&] { node.stop(); });
   work.reset();

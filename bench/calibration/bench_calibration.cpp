@@ -44,7 +44,10 @@ std::vector<Planar2DofSample> planarData() {
       Planar2DofSample sample{
           readings.x(), readings.y(),
           Eigen::Vector2d(c * tcp.x() + s * tcp.y(), -s * tcp.x() + c * tcp.y())};
-      if (row + column > 0) sample.lgpMm += Eigen::Vector2d(noise(generator), noise(generator));
+      if (row + column > 0) {
+        const double dy = noise(generator);  // drawn in this order whatever the compiler
+        sample.lgpMm += Eigen::Vector2d(noise(generator), dy);
+      }
       samples.push_back(sample);
     }
   }

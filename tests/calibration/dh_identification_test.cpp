@@ -7,6 +7,7 @@
 #include <random>
 #include <set>
 
+#include "random_draws.hpp"
 #include "volcomp/calibration/identification.hpp"
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/model/dh_chain.hpp"
@@ -46,8 +47,7 @@ MeasurementSet simulateChain(const json& truth, double noiseMm, unsigned seed) {
         Measurement m;
         m.qMm = {x, y, z};
         m.errorMm = chain.evaluate(m.qMm.data()).errorMm;
-        if (noiseMm > 0)
-          m.errorMm += Eigen::Vector3d(noise(generator), noise(generator), noise(generator));
+        if (noiseMm > 0) m.errorMm += testutil::draw3(noise, generator);
         m.line = line++;
         set.points.push_back(m);
       }

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "random_draws.hpp"
 #include "volcomp/calibration/planar2dof.hpp"
 
 namespace volcomp::calibration::testing {
@@ -30,8 +31,8 @@ inline Planar2DofParameters paperStart() {
 // residual is (exK, eyK) itself: (exK, eyK) is one more realisation of the reading noise, estimated
 // with the shrinkage of a least-squares fit (noise-free data are reproduced exactly only when it is
 // zero).
-inline std::vector<Planar2DofSample> simulatePlanar(const Planar2DofParameters& truth, double noiseMm,
-                                       unsigned seed) {
+inline std::vector<Planar2DofSample> simulatePlanar(const Planar2DofParameters& truth,
+                                                    double noiseMm, unsigned seed) {
   const Planar2DofGeometry geometry;
   std::mt19937 generator(seed);
   std::normal_distribution<double> noise(0.0, noiseMm);
@@ -47,8 +48,7 @@ inline std::vector<Planar2DofSample> simulatePlanar(const Planar2DofParameters& 
       sample.bMm = readings.y();
       sample.lgpMm = Eigen::Vector2d(c * tcp.x() + s * tcp.y(), -s * tcp.x() + c * tcp.y()) +
                      Eigen::Vector2d(12.0, -7.0) +
-                     (reference ? Eigen::Vector2d::Zero()
-                                : Eigen::Vector2d(noise(generator), noise(generator)));
+                     (reference ? Eigen::Vector2d::Zero() : testutil::draw2(noise, generator));
       samples.push_back(sample);
     }
   }

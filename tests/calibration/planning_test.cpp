@@ -14,6 +14,7 @@
 #include <random>
 #include <set>
 
+#include "random_draws.hpp"
 #include "subprocess.hpp"
 #include "synthetic.hpp"
 #include "volcomp/calibration/planning.hpp"
@@ -64,8 +65,8 @@ double simulatedPredictionError(const config::ModelDocument& document,
   std::normal_distribution<double> noise(0.0, noiseMm);
   MeasurementSet measured = designMeasurements(all, design);
   for (Measurement& m : measured.points) {
-    m.errorMm = model::evaluate(truth, ws, m.qMm, m.toolMm).errorMm +
-                Eigen::Vector3d(noise(generator), noise(generator), noise(generator));
+    m.errorMm =
+        model::evaluate(truth, ws, m.qMm, m.toolMm).errorMm + testutil::draw3(noise, generator);
   }
   const auto problem = makeIdentificationProblem(document, measured);
   const FitResult fit = solve(*problem, problem->startVector());

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "random_draws.hpp"
 #include "volcomp/calibration/identification.hpp"
 #include "volcomp/calibration/measurements.hpp"
 #include "volcomp/config/model_file.hpp"
@@ -115,13 +116,12 @@ inline MeasurementSet simulate(const model::MachineModelSpec& truth,
             const Eigen::Vector3d nominal = m.qMm + tool - truth.workpieceMm;
             m.errorMm = rotation * (nominal + error.errorMm) + options.frameTranslationMm - nominal;
             if (options.noiseMm > 0.0) {
-              m.errorMm += Eigen::Vector3d(noise(generator), noise(generator), noise(generator));
+              m.errorMm += testutil::draw3(noise, generator);
             }
             if (options.withAngles) {
               m.angularErrorRad = error.angularErrorRad;
               if (options.angleNoiseRad > 0.0) {
-                m.angularErrorRad += Eigen::Vector3d(angleNoise(generator), angleNoise(generator),
-                                                     angleNoise(generator));
+                m.angularErrorRad += testutil::draw3(angleNoise, generator);
               }
             }
             m.line = line++;

@@ -44,12 +44,16 @@ TEST_P(Commissioning, TheExamplePairRunsWithoutLimiterViolations) {
   startDaemon(daemon);
   ASSERT_TRUE(waitForAppliedOffset(0.003)) << daemonLog();
   ASSERT_TRUE(waitForMoreWrites(*sim_, 150)) << daemonLog();
+  // The error statistics of compensated running: after the stop the machine runs uncompensated
+  // until the simulator quits, for as long as the exit takes (longer on a loaded machine).
+  const json running = simStatus();
+  ASSERT_TRUE(running.is_object());
   stopDaemon();
   const json report = finishSim();
   EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
-  EXPECT_LE(report["rms_compensated_um"].get<double>(),
-            0.2 * report["rms_uncompensated_um"].get<double>())
-      << report.dump();
+  EXPECT_LE(running["rms_compensated_um"].get<double>(),
+            0.2 * running["rms_uncompensated_um"].get<double>())
+      << running.dump();
   const auto rows = record();
   ASSERT_GT(rows.size(), 150U);
   expectWritesWithinLimits(rows, daemon["limiter"]["max_offset_mm"].get<double>(),

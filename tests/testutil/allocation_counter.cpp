@@ -39,18 +39,6 @@ std::uint64_t AllocationScope::count() const noexcept {
 
 }  // namespace volcomp::testutil
 
-// GCC says a sanitizer is on with __SANITIZE_*__, clang (before 17) with __has_feature: the
-// sanitizers own malloc, so only operator new is counted then.
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
-    __has_feature(memory_sanitizer)
-#define VOLCOMP_MALLOC_IS_SANITIZED 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define VOLCOMP_MALLOC_IS_SANITIZED 1
-#endif
-
 #if defined(__GLIBC__) && !defined(VOLCOMP_MALLOC_IS_SANITIZED)
 // Forward to glibc's own allocator (same heap, so free/realloc stay consistent); the definitions
 // in the executable take precedence over libc's for every library loaded with it, and

@@ -13,11 +13,23 @@
 
 #include <cstdint>
 
+// GCC says a sanitizer is on with __SANITIZE_*__, clang (before 17) with __has_feature: the
+// sanitizers own malloc, so only operator new is counted then.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
+    __has_feature(memory_sanitizer)
+#define VOLCOMP_MALLOC_IS_SANITIZED 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define VOLCOMP_MALLOC_IS_SANITIZED 1
+#endif
+
 namespace volcomp::testutil {
 
 /// Whether malloc/calloc/realloc themselves are counted (glibc without sanitizers); when false
 /// only the global operator new is.
-#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#if defined(__GLIBC__) && !defined(VOLCOMP_MALLOC_IS_SANITIZED)
 inline constexpr bool kCountsMalloc = true;
 #else
 inline constexpr bool kCountsMalloc = false;

@@ -126,15 +126,29 @@ TEST(PredictPositions, ExtrapolatesSureAxesWithinTheCapAndTakesTheirDirection) {
   for (int i = 0; i < 4; ++i) e.add(at(0.01 * i), {-400.0 * 0.01 * i, 7.0, 0.0}, kGap);
   std::array<double, 3> q{-12.0, 7.0, 0.0};
   model::Directions d{Direction::Positive, Direction::Unknown, Direction::Negative};
-  EXPECT_EQ(predictPositions(e, q, d, 5ms, 20ms), 1);
+  EXPECT_EQ(predictPositions(e, q, d, 5ms, 20ms, 0.002), 1);
   EXPECT_NEAR(q[0], -12.0 - 400.0 * 0.005, 1e-9);
   EXPECT_EQ(q[1], 7.0);
   EXPECT_EQ(d[0], Direction::Negative) << "the estimate's direction";
   EXPECT_EQ(d[1], Direction::Unknown) << "unsure axes keep the tracker's";
   EXPECT_EQ(d[2], Direction::Negative);
   q = {-12.0, 7.0, 0.0};
-  predictPositions(e, q, d, 500ms, 20ms);
+  predictPositions(e, q, d, 500ms, 20ms, 0.002);
   EXPECT_NEAR(q[0], -12.0 - 400.0 * 0.020, 1e-9) << "the horizon is capped";
+}
+
+TEST(PredictPositions, NoiseAtRestBelowTheHysteresisIsNeitherExtrapolatedNorADirection) {
+  // Four reads creeping up by 0.5 um each (encoder noise on actual positions): monotonic, so the
+  // estimate is sure, but 1.5 um over the window is within the tracker's 2 um hysteresis.
+  VelocityEstimator e;
+  for (int i = 0; i < 4; ++i) e.add(at(0.01 * i), {10.0 + 0.0005 * i, 0.0, 0.0}, kGap);
+  ASSERT_TRUE(e.velocity(0).sure);
+  std::array<double, 3> q{10.0015, 0.0, 0.0};
+  model::Directions d{Direction::Unknown, Direction::Unknown, Direction::Unknown};
+  EXPECT_EQ(predictPositions(e, q, d, 5ms, 20ms, 0.002), 0);
+  EXPECT_EQ(q[0], 10.0015);
+  EXPECT_EQ(d[0], Direction::Unknown);
+  EXPECT_EQ(predictPositions(e, q, d, 5ms, 20ms, 0.001), 1) << "beyond a smaller hysteresis";
 }
 
 // --- in the loop -----------------------------------------------------------------------------

@@ -293,7 +293,8 @@ std::array<double, 3> CompensationLoop::latencyCompensated(const std::array<doub
                        settings_.controllerLatency + settings_.period / 2;
   std::array<double, 3> out = qMm;
   if (predictPositions(estimator_, out, directions, horizon,
-                       settings_.controllerLatency + 2 * settings_.period) > 0) {
+                       settings_.controllerLatency + 2 * settings_.period,
+                       settings_.directionHysteresisMm) > 0) {
     ++counters_.extrapolatedCycles;
   }
   const auto& travel = model_->travelMm();

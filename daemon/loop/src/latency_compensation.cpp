@@ -70,12 +70,12 @@ AxisVelocity VelocityEstimator::velocity(std::size_t k) const noexcept {
 
 int predictPositions(const VelocityEstimator& estimator, std::array<double, 3>& qMm,
                      model::Directions& directions, std::chrono::nanoseconds horizon,
-                     std::chrono::nanoseconds maxHorizon) noexcept {
+                     std::chrono::nanoseconds maxHorizon, double minSpanMm) noexcept {
   const double hS = seconds(std::clamp(horizon, std::chrono::nanoseconds(0), maxHorizon));
   int extrapolated = 0;
   for (std::size_t k = 0; k < 3; ++k) {
     const AxisVelocity v = estimator.velocity(k);
-    if (!v.sure) continue;
+    if (!v.sure || !(std::abs(estimator.spanMm(k)) > minSpanMm)) continue;
     qMm[k] += v.mmS * hS;
     directions[k] = v.mmS > 0.0 ? model::Direction::Positive : model::Direction::Negative;
     ++extrapolated;

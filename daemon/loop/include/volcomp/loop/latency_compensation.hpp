@@ -48,6 +48,10 @@ class VelocityEstimator {
   time_point newest() const noexcept { return t_[index(count_ - 1)]; }
   /// The estimate of axis k (0..2); unsure with fewer than three samples.
   AxisVelocity velocity(std::size_t k) const noexcept;
+  /// How far axis k moved over the window (newest - oldest, mm; 0 with fewer than two samples).
+  double spanMm(std::size_t k) const noexcept {
+    return count_ < 2 ? 0.0 : q_[index(count_ - 1)][k] - q_[index(0)][k];
+  }
 
  private:
   std::size_t index(std::size_t i) const noexcept { return (first_ + i) % kVelocitySamples; }
@@ -58,11 +62,13 @@ class VelocityEstimator {
   std::size_t count_ = 0;
 };
 
-/// Where to evaluate the model: q + v h per sure axis (h = min(horizon, maxHorizon), s), q
-/// elsewhere; `directions` gets the sign of v on sure axes and keeps the tracker's elsewhere.
-/// Returns the number of axes extrapolated.
+/// Where to evaluate the model: q + v h per sure axis that moved more than `minSpanMm` over the
+/// window (the direction tracker's hysteresis: noise at rest is never extrapolated and never sets
+/// a direction), h = min(horizon, maxHorizon); q elsewhere. `directions` gets the sign of v on
+/// the axes extrapolated and keeps the tracker's elsewhere. Returns the number of axes
+/// extrapolated.
 int predictPositions(const VelocityEstimator& estimator, std::array<double, 3>& qMm,
                      model::Directions& directions, std::chrono::nanoseconds horizon,
-                     std::chrono::nanoseconds maxHorizon) noexcept;
+                     std::chrono::nanoseconds maxHorizon, double minSpanMm) noexcept;
 
 }  // namespace volcomp::loop

@@ -91,11 +91,25 @@ double rampOutSeconds(const loop::LimiterSettings& limiter) noexcept {
 
 DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string& file) {
   const JsonReader root(document, file);
-  root.allowOnly({"cycle_period_ms", "position_semantics", "limiter", "stale_timeout_ms",
-                  "frozen_positions_are_stale", "travel_margin_mm", "direction_hysteresis_mm",
-                  "offset_readback", "plc_zero_after_ms", "plc_heartbeat_timeout_ms",
-                  "read_to_write_max_ms", "fault_latch", "service_watchdog_ms", "model",
-                  "reconnect", "log_level", "stop_timeout_s", "accept_model_beyond_max_offset",
+  root.allowOnly({"cycle_period_ms",
+                  "position_semantics",
+                  "limiter",
+                  "stale_timeout_ms",
+                  "frozen_positions_are_stale",
+                  "travel_margin_mm",
+                  "direction_hysteresis_mm",
+                  "offset_readback",
+                  "plc_zero_after_ms",
+                  "plc_heartbeat_timeout_ms",
+                  "read_to_write_max_ms",
+                  "fault_latch",
+                  "service_watchdog_ms",
+                  "model",
+                  "reconnect",
+                  "log_level",
+                  "stop_timeout_s",
+                  "accept_model_beyond_max_offset",
+                  "latency_compensation",
                   "transport"});
   DaemonConfig c;
   c.file = file;
@@ -183,6 +197,12 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
     } else if (c.reconnect.maxMs < c.reconnect.initialMs) {
       c.reconnect.maxMs = c.reconnect.initialMs;
     }
+  }
+  if (auto latency = root.find("latency_compensation")) {
+    latency->allowOnly({"enabled", "controller_latency_ms"});
+    c.latencyCompensation = latency->booleanOr("enabled", false);
+    if (auto v = latency->find("controller_latency_ms"))
+      c.controllerLatencyMs = v->number(0.0, 100.0);
   }
   if (auto v = root.find("log_level")) {
     c.logLevel = v->oneOf({"trace", "debug", "info", "warn", "error", "critical", "off"});

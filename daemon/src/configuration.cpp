@@ -92,6 +92,8 @@ loop::LoopSettings loopSettingsFrom(const config::DaemonConfig& c) noexcept {
   s.saturationWarning = fromMs(c.saturationWarningMs);
   s.saturationFault = fromMs(c.saturationFaultMs);
   s.faultLatch = c.faultLatch;
+  s.latencyCompensation = c.latencyCompensation;
+  s.controllerLatency = fromMs(c.controllerLatencyMs);
   // A read-back of what was written may differ by one count of its register.
   s.readbackResolutionMm =
       std::max(loop::kReadbackResolutionMm, config::readbackCountMm(c.transport));

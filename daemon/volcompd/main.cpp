@@ -89,6 +89,12 @@ int run(const std::string& configPath, bool checkOnly, bool verbose) {
     spdlog::info("{}: configuration, model '{}' and {} transport are valid; {}", configPath,
                  loaded.model->name(), volcomp::config::transportType(loaded.config.transport),
                  environment);
+    if (loaded.config.latencyCompensation) {
+      spdlog::info("latency compensation on: controller latency {} ms",
+                   loaded.config.controllerLatencyMs);
+    } else {
+      spdlog::info("latency compensation off");
+    }
     return 0;
   }
 

@@ -78,6 +78,8 @@ TEST(DaemonConfig, MinimalFileGetsTheDefaults) {
   EXPECT_DOUBLE_EQ(c.reconnect.initialMs, 100.0);
   EXPECT_DOUBLE_EQ(c.reconnect.maxMs, 2000.0);
   EXPECT_EQ(c.logLevel, "info");
+  EXPECT_FALSE(c.latencyCompensation);
+  EXPECT_DOUBLE_EQ(c.controllerLatencyMs, 0.0);
   EXPECT_EQ(transportType(c.transport), "modbus-tcp");
   // Read into the driver's settings.
   const auto& settings = std::get<modbus::ModbusSettings>(c.transport);
@@ -111,6 +113,28 @@ TEST(DaemonConfig, EveryKeyIsRead) {
   EXPECT_EQ(c.logLevel, "debug");
   EXPECT_EQ(transportType(c.transport), "can");
   EXPECT_EQ(std::get<can::CanLayout>(c.transport).interfaceName, "can0");
+}
+
+TEST(DaemonConfig, LatencyCompensationIsReadIntoTheLoopSettings) {
+  json doc = minimal();
+  doc["latency_compensation"] = {{"enabled", true}, {"controller_latency_ms", 1.5}};
+  const DaemonConfig c = parseDaemonConfig(doc, "/etc/volcomp/daemon.json");
+  EXPECT_TRUE(c.latencyCompensation);
+  EXPECT_DOUBLE_EQ(c.controllerLatencyMs, 1.5);
+  const loop::LoopSettings s = daemon::loopSettingsFrom(c);
+  EXPECT_TRUE(s.latencyCompensation);
+  EXPECT_EQ(s.controllerLatency, std::chrono::microseconds(1500));
+
+  doc["latency_compensation"] = {{"enabled", "yes"}};
+  expectError(doc, "latency_compensation.enabled", "expected");
+  doc["latency_compensation"] = {{"enabled", true}, {"controller_latency_ms", -1}};
+  expectError(doc, "latency_compensation.controller_latency_ms", "expected");
+  doc["latency_compensation"] = {{"enabled", true}, {"controller_latency_ms", 500}};
+  expectError(doc, "latency_compensation.controller_latency_ms", "100");
+  doc["latency_compensation"] = {{"on", true}};
+  expectError(doc, "latency_compensation.on", "unknown key");
+  doc["latency_compensation"] = true;
+  expectError(doc, "latency_compensation", "expected");
 }
 
 TEST(DaemonConfig, TransportErrorsNameTheDaemonFileAndTheTransportKeyPath) {

@@ -9,7 +9,8 @@ add_executable(volcomp_e2e_process_tests
   latch_saturation_e2e_test.cpp
   lifecycle_e2e_test.cpp
   hostile_e2e_test.cpp
-  commissioning_e2e_test.cpp)
+  commissioning_e2e_test.cpp
+  latency_compensation_e2e_test.cpp)
 target_link_libraries(volcomp_e2e_process_tests PRIVATE nlohmann_json::nlohmann_json
                       volcomp_testutil volcomp_warnings)
 target_compile_definitions(volcomp_e2e_process_tests PRIVATE

@@ -29,6 +29,7 @@ TEST(NoAllocation, CountingOperatorNewSeesAllocations) {
 
 TEST_F(LoopTest, NoAllocationPerCycleInAnyState) {
   port.autoSequence = true;
+  settings.latencyCompensation = true;  // its estimator included
   make();
   cycle();  // first connect and synchronisation outside the count is not needed, but harmless
   Counting c;
@@ -59,19 +60,29 @@ TEST(NoAllocation, RealModelOffsetSolveDoesNotAllocate) {
   FakeClock clock;
   FakePort port;
   port.sample.positionMm = {400.0, 250.0, -200.0};
-  CompensationLoop loop(port, clock, model, testSettings());
-  clock.advance(std::chrono::milliseconds(10));
-  loop.step();
-  Counting c;
-  for (int i = 0; i < 500; ++i) {
-    port.sample.positionMm[0] += (i % 100 < 50) ? 0.5 : -0.5;  // both directions
-    port.sample.positionMm[1] += 0.2;
+  // With latency compensation: the estimator and the extrapolated evaluation on the hot path.
+  for (const bool latency : {false, true}) {
+    LoopSettings settings = testSettings();
+    settings.latencyCompensation = latency;
+    settings.controllerLatency = std::chrono::milliseconds(1);
+    CompensationLoop loop(port, clock, model, settings);
     clock.advance(std::chrono::milliseconds(10));
-    const CycleReport r = loop.step();
-    ASSERT_EQ(r.state, LoopState::Active) << faultName(r.fault);
+    loop.step();
+    Counting c;
+    for (int i = 0; i < 500; ++i) {
+      port.sample.positionMm[0] += (i % 100 < 50) ? 0.5 : -0.5;  // both directions
+      port.sample.positionMm[1] += 0.2;
+      clock.advance(std::chrono::milliseconds(10));
+      const CycleReport r = loop.step();
+      ASSERT_EQ(r.state, LoopState::Active) << faultName(r.fault);
+    }
+    EXPECT_EQ(c.count(), 0U) << "latency compensation " << latency;
+    if (latency) {
+      EXPECT_GT(loop.counters().extrapolatedCycles, 400U);
+    }
+    for (double o : port.last.offsetMm) EXPECT_TRUE(std::isfinite(o));
+    port.sample.positionMm = {400.0, 250.0, -200.0};
   }
-  EXPECT_EQ(c.count(), 0U);
-  for (double o : port.last.offsetMm) EXPECT_TRUE(std::isfinite(o));
 }
 
 }  // namespace

@@ -243,6 +243,40 @@ TEST(SimMachine, ToolTipErrorWithAndWithoutCompensation) {
   EXPECT_EQ(r["samples"], 2);
 }
 
+TEST(SimMachine, MotionInducedErrorIsWhatTheIdealOffsetOfTheInstantWouldNotLeave) {
+  // E(x) = (1e-4 x, 0, 0) mm, X moving at 100 mm/s from 0 to 1000 and back. The ideal offset at x
+  // solves o = -1e-4 (x + o): o* = -1e-4 x / 1.0001, which leaves nothing; the offset of a
+  // position 1 mm behind leaves E(x + o) + o = 1e-4 mm more.
+  ErrorFunction e = [](const Vec3& q, const MotionDirections&) { return Vec3{1e-4 * q[0], 0, 0}; };
+  MachineOptions opt;
+  opt.limits.cycleS = 0.01;
+  Machine m(Path::polyline({{0, 0, 0}, {1000, 0, 0}}, 6000.0), e, opt);
+  m.sample(0.0);
+  const double ideal = -1e-4 * 500.0 / 1.0001;  // at t = 5 s, x = 500
+  m.onWrite(5.0, offsets(ideal, 0, 0));
+  m.sample(5.0);
+  nlohmann::json r = m.report(5.0);
+  EXPECT_NEAR(r["rms_motion_um"].get<double>(), 0.0, 1e-9);
+  EXPECT_NEAR(r["rms_compensated_um"].get<double>(), 0.0, 1e-9);
+  // 10 ms later x = 501: the offset of x = 500 is 1 mm behind.
+  m.sample(5.01);
+  r = m.report(5.01);
+  const double lagUm = (1e-4 * (501.0 + ideal) + ideal) * 1000.0;
+  EXPECT_NEAR(lagUm, 0.1, 1e-3);
+  EXPECT_NEAR(r["max_motion_um"].get<double>(), lagUm, 1e-9);
+  EXPECT_NEAR(r["max_compensated_um"].get<double>(), lagUm, 1e-9) << "the model is exact";
+  EXPECT_EQ(r["motion_steady_samples"], 2) << "no reversal yet";
+  // The reversal at x = 1000 (t = 10 s), seen by the sample at 10.01 s: the three cycles after
+  // it are its transient.
+  m.sample(9.995);
+  m.sample(10.01);
+  m.sample(10.02);
+  m.sample(10.05);
+  r = m.report(10.05);
+  EXPECT_EQ(r["samples"], 6);
+  EXPECT_EQ(r["motion_steady_samples"], 4);
+}
+
 TEST(SimMachine, HeartbeatWatchdogRampsTheOffsetsAway) {
   MachineOptions opt;
   opt.heartbeatTimeoutS = 0.1;

@@ -148,6 +148,7 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
   }
   adopt(applied);
   tracker_.reset();
+  estimator_.reset();
   lastInputChange_ = now;
   lastSequence_ = sample_.sequence;
   lastPositionMm_ = sample_.positionMm;
@@ -238,10 +239,12 @@ FaultCode CompensationLoop::checkInputs(time_point now, std::array<double, 3>& q
 // The model's offset at q, and sustained limiting: the clamp (a target outside the band, not the
 // slew towards it) holding an axis for longer than the warning time sets SATURATED, longer than
 // the fault time is a fault of its own.
-void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>& qMm, Decision& d,
-                                     CycleReport& report) noexcept {
-  const model::Directions& directions = tracker_.update(qMm);
-  const ModelOffset result = model_->offset(qMm, directions);
+void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>& qMm, bool newData,
+                                     Decision& d, CycleReport& report) noexcept {
+  model::Directions directions = tracker_.update(qMm);
+  const std::array<double, 3> evalMm =
+      settings_.latencyCompensation ? latencyCompensated(qMm, newData, directions) : qMm;
+  const ModelOffset result = model_->offset(evalMm, directions);
   if (result.clampedAxes != 0) d.outOfTravel = true;
   if (!allFinite(result.offsetMm)) {
     d.fault = FaultCode::ModelInvalid;
@@ -277,6 +280,32 @@ void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>
   if (reached(settings_.saturationFault)) d.fault = FaultCode::SustainedLimit;
 }
 
+// The tracker follows the measured positions: an extrapolation that overshoots a stop must not
+// turn its direction. Only sure axes are extrapolated (and take the estimate's direction), and
+// never out of the travel they are in, which would set OUT_OF_TRAVEL for a position not reached.
+std::array<double, 3> CompensationLoop::latencyCompensated(const std::array<double, 3>& qMm,
+                                                           bool newData,
+                                                           model::Directions& directions) noexcept {
+  // Samples more than two periods apart belong to another motion (a pause, a late cycle).
+  if (newData) estimator_.add(sampledAt_, qMm, 2 * settings_.period + settings_.readToWriteMax);
+  // The write leaves about now; it is applied half its transaction later.
+  const auto horizon = (clock_.now() - sampledAt_) + lastWriteDuration_ / 2 +
+                       settings_.controllerLatency + settings_.period / 2;
+  std::array<double, 3> out = qMm;
+  if (predictPositions(estimator_, out, directions, horizon,
+                       settings_.controllerLatency + 2 * settings_.period,
+                       settings_.directionHysteresisMm) > 0) {
+    ++counters_.extrapolatedCycles;
+  }
+  const auto& travel = model_->travelMm();
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!travel[k]) continue;
+    const double lo = (*travel[k])[0], hi = (*travel[k])[1];
+    if (qMm[k] >= lo && qMm[k] <= hi) out[k] = std::clamp(out[k], lo, hi);
+  }
+  return out;
+}
+
 // A latched fault stays until the controller acknowledges it: a rising edge of its fault-ack
 // input, or its enable input switched off (the enable toggle). An edge counts only on a read.
 void CompensationLoop::applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept {
@@ -308,16 +337,19 @@ CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFai
     d.fault = FaultCode::TransactionError;
   } else {
     std::array<double, 3> q{};
+    // Registers whose life counter did not move hold the previous sample's positions.
+    const bool newData = !sample_.hasSequence || sample_.sequence != lastSequence_;
     d.fault = checkInputs(now, q, d.outOfTravel);
     if (d.fault == FaultCode::None) {
       if (!sample_.enable || !sample_.homed) {
         d.next = LoopState::Disabled;
       } else {
-        evaluateModel(now, q, d, report);
+        evaluateModel(now, q, newData, d, report);
       }
     }
   }
   if (!d.evaluated) {
+    estimator_.reset();
     clamping_ = {};
     saturationWarned_ = false;
   }
@@ -416,6 +448,7 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
   lastSentTime_ = now;
   const std::error_code ec = port_.write(command_);
   if (!ec) {
+    lastWriteDuration_ = clock_.now() - now;
     ++counters_.writes;
     lastWriteTime_ = now;
     lastWriteFailed_ = false;
@@ -492,6 +525,8 @@ CycleReport CompensationLoop::step() noexcept {
     if (attempt > 0) ++counters_.lateReads;
     report.error.clear();
     const std::error_code readError = port_.read(sample_);
+    // The controller answered somewhere inside the transaction: its middle is the best guess.
+    sampledAt_ = readAt + (clock_.now() - readAt) / 2;
     if (readError) {
       report.error = readError;
       if (isLinkError(readError)) {

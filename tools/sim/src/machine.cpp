@@ -11,6 +11,8 @@ namespace {
 
 constexpr std::array<const char*, 3> kAxes{"X", "Y", "Z"};
 constexpr double kForever = std::numeric_limits<double>::infinity();
+// The reversal transient: this many writer cycles after an axis reversed.
+constexpr double kReversalWindowCycles = 3.0;
 
 double until(double tS, double durationS) noexcept {
   return durationS > 0.0 ? tS + durationS : kForever;
@@ -63,8 +65,10 @@ void Machine::advanceLocked(double tS) {
   const Vec3 previous = programmed_;
   programmed_ = path_.at(pathTimeS_);
   for (std::size_t k = 0; k < 3; ++k) {
+    const int before = directions_[k];
     if (programmed_[k] > previous[k]) directions_[k] = 1;
     if (programmed_[k] < previous[k]) directions_[k] = -1;
+    if (before != 0 && directions_[k] != before) lastReversalT_ = tS;
   }
   if (options_.heartbeatTimeoutS > 0.0 && tS - lastHeartbeatChangeT_ > options_.heartbeatTimeoutS) {
     if (!watchdogTripped_) {
@@ -246,6 +250,27 @@ void Machine::sample(double tS) {
   for (std::size_t k = 0; k < 3; ++k) comp[k] = em[k] + applied_[k];
   uncompensated_.add(e);
   compensated_.add(comp);
+  // The ideal offset at this instant: o* = -E(q + o*) (the daemon's solve with the true model,
+  // at the true position and direction, zero latency); the fixed point converges at once, E
+  // changing by far less than a micrometre per micrometre. What the applied offset leaves beyond
+  // what o* would leave is the motion-induced error.
+  Vec3 ideal{};
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    Vec3 at{};
+    for (std::size_t k = 0; k < 3; ++k) at[k] = q[k] + ideal[k];
+    const Vec3 ei = trueError_(at, directions_);
+    for (std::size_t k = 0; k < 3; ++k) ideal[k] = -ei[k];
+  }
+  Vec3 at{};
+  for (std::size_t k = 0; k < 3; ++k) at[k] = q[k] + ideal[k];
+  const Vec3 ei = trueError_(at, directions_);
+  Vec3 motion{};
+  for (std::size_t k = 0; k < 3; ++k) motion[k] = comp[k] - (ei[k] + ideal[k]);
+  motion_.add(motion);
+  // A reversal cannot be seen before it happens: the cycles just after one (until the daemon has
+  // read it, decided and written) are its transient; the rest is steady motion.
+  if (!(tS - lastReversalT_ < kReversalWindowCycles * options_.limits.cycleS))
+    motionSteady_.add(motion);
 }
 
 void Machine::stall(double tS, double durationS) {
@@ -330,6 +355,7 @@ nlohmann::json Machine::report(double tS) const {
         {"rms_compensated_um", rmsUm(compensated_.sumSqAxis[k], compensated_.samples)},
         {"max_uncompensated_um", uncompensated_.maxAbsAxis[k] * 1000.0},
         {"max_compensated_um", compensated_.maxAbsAxis[k] * 1000.0},
+        {"rms_motion_um", rmsUm(motion_.sumSqAxis[k], motion_.samples)},
         {"limiter_violations", axisViolations_[k]},
         {"max_abs_offset_written_mm", maxAbsWrittenMm_[k]},
     };
@@ -347,6 +373,11 @@ nlohmann::json Machine::report(double tS) const {
       {"rms_compensated_um", rmsUm(compensated_.sumSqNorm, compensated_.samples)},
       {"max_uncompensated_um", uncompensated_.maxNorm * 1000.0},
       {"max_compensated_um", compensated_.maxNorm * 1000.0},
+      {"rms_motion_um", rmsUm(motion_.sumSqNorm, motion_.samples)},
+      {"max_motion_um", motion_.maxNorm * 1000.0},
+      {"rms_motion_steady_um", rmsUm(motionSteady_.sumSqNorm, motionSteady_.samples)},
+      {"max_motion_steady_um", motionSteady_.maxNorm * 1000.0},
+      {"motion_steady_samples", motionSteady_.samples},
       {"axes", axes},
       {"applied_offset_mm", applied_},
       {"sessions", sessions_},

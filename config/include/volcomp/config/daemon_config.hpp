@@ -30,6 +30,9 @@
 ///     "fault_latch": true,                   faults (but a failed transaction) stay until the
 ///                                            controller acknowledges them
 ///     "service_watchdog_ms": 2000,           the unit's WatchdogSec (config/transport_limits.hpp)
+///     "latency_compensation": {"enabled": false,        evaluate the model where the axes will be
+///                              "controller_latency_ms": 0},  when the offset acts; the
+///                                            controller's own delay, ms, in [0, 100]
 ///   * "model": "model.json",                 relative to this file's directory
 ///     "reconnect": {"initial_ms": 100, "max_ms": 2000},
 ///     "log_level": "info",                   trace|debug|info|warn|error|critical|off
@@ -77,6 +80,9 @@ struct DaemonConfig {
   double saturationWarningMs = 1000.0;
   double saturationFaultMs = 10000.0;
   bool faultLatch = true;
+  /// "latency_compensation" (loop::LoopSettings::latencyCompensation, docs/daemon.md).
+  bool latencyCompensation = false;
+  double controllerLatencyMs = 0.0;
   /// The service manager's watchdog interval (WatchdogSec of the installed unit, which a test
   /// compares with this default); a cycle may
   /// block on its transactions for at most half of it (config/transport_limits.hpp).

@@ -44,6 +44,7 @@
 
 #include "volcomp/loop/compensation_model.hpp"
 #include "volcomp/loop/direction_tracker.hpp"
+#include "volcomp/loop/latency_compensation.hpp"
 #include "volcomp/loop/limiter.hpp"
 #include "volcomp/loop/loop_settings.hpp"
 #include "volcomp/loop/ports.hpp"
@@ -120,6 +121,9 @@ struct LoopCounters {
   std::uint64_t withheldWrites = 0;
   /// Times the saturation warning started.
   std::uint64_t saturationWarnings = 0;
+  /// Cycles whose model evaluation used an extrapolated position on at least one axis (latency
+  /// compensation on and the velocity estimate sure).
+  std::uint64_t extrapolatedCycles = 0;
 };
 
 class CompensationLoop {
@@ -181,8 +185,10 @@ class CompensationLoop {
   void adopt(const std::array<double, 3>& appliedMm) noexcept;
   FaultCode checkInputs(time_point now, std::array<double, 3>& qMm, bool& outOfTravel) noexcept;
   Decision decide(time_point now, bool readFailed, CycleReport& report) noexcept;
-  void evaluateModel(time_point now, const std::array<double, 3>& qMm, Decision& d,
+  void evaluateModel(time_point now, const std::array<double, 3>& qMm, bool newData, Decision& d,
                      CycleReport& report) noexcept;
+  std::array<double, 3> latencyCompensated(const std::array<double, 3>& qMm, bool newData,
+                                           model::Directions& directions) noexcept;
   void applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept;
   bool readbackOutOfRange() const noexcept;
   std::chrono::nanoseconds readToWriteBound(time_point readAt) const noexcept;
@@ -214,6 +220,12 @@ class CompensationLoop {
   LimiterState limiter_{};
   DirectionTracker tracker_;
   LoopCounters counters_{};
+
+  /// Latency compensation: the velocity estimate, when the controller sampled this cycle's
+  /// positions (mid-read) and how long the last acknowledged write took.
+  VelocityEstimator estimator_;
+  time_point sampledAt_{};
+  std::chrono::nanoseconds lastWriteDuration_{0};
 
   /// Writes with an unknown outcome since the last acknowledged one: the controller applies a
   /// value in [envelopeLowMm_, envelopeHighMm_] per axis (the hull of the acknowledged value and

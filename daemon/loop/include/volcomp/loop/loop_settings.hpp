@@ -52,6 +52,14 @@ struct LoopSettings {
   /// SustainedLimit. Zero disables the respective stage.
   std::chrono::nanoseconds saturationWarning = std::chrono::seconds(1);
   std::chrono::nanoseconds saturationFault = std::chrono::seconds(10);
+  /// Latency compensation (latency_compensation.hpp): evaluate the model where the axes will be
+  /// when the offset acts, q + v h, h = half the read transaction (the controller samples the
+  /// positions mid-read) + the time to the write + half the last write transaction +
+  /// `controllerLatency` + half the period (the offset then holds for a period; its middle), at
+  /// most `controllerLatency` + 2 periods. Off: evaluate at the positions read.
+  bool latencyCompensation = false;
+  /// The controller's own delay from receiving an offset to applying it at the axes.
+  std::chrono::nanoseconds controllerLatency{0};
   /// Latch every fault but a failed transaction until the controller acknowledges it.
   bool faultLatch = true;
   std::chrono::nanoseconds reconnectInitial = std::chrono::milliseconds(100);

@@ -188,11 +188,13 @@ bool Daemon::cycle() {
     notifier_.notify("STATUS=stopped");
     spdlog::info(
         "stopped after {} cycles ({} overruns); {} late reads, {} unknown write "
-        "outcomes; latest start {} us after its deadline",
+        "outcomes; latest start {} us after its deadline, {} cycles started a period or more "
+        "late, {} deadlines skipped",
         loop_.counters().cycles, scheduler_.overruns(), loop_.counters().lateReads,
         loop_.counters().unknownOutcomes,
         std::chrono::duration_cast<std::chrono::microseconds>(scheduler_.maxWakeLateness())
-            .count());
+            .count(),
+        scheduler_.lateStarts(), scheduler_.missedDeadlines());
     if (onFinished_) asio::post(io_, onFinished_);
     return false;
   }

@@ -44,7 +44,9 @@ void PeriodicScheduler::arm() {
 void PeriodicScheduler::onWake() {
   if (!running_) return;
   // The clock never wakes early: the deadline has passed here.
-  maxWakeLateness_ = std::max(maxWakeLateness_, std::chrono::nanoseconds(clock_.now() - deadline_));
+  const std::chrono::nanoseconds lateness(clock_.now() - deadline_);
+  maxWakeLateness_ = std::max(maxWakeLateness_, lateness);
+  if (period_.count() > 0 && lateness >= period_) ++lateStarts_;
   ++cycles_;
   if (!cycle_()) {
     running_ = false;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <asio/io_context.hpp>
+#include <asio/post.hpp>
 #include <chrono>
 #include <vector>
 
@@ -89,6 +90,28 @@ TEST(PeriodicScheduler, RunsOnAbsoluteDeadlinesAndCountsOverruns) {
   EXPECT_EQ(scheduler.missedDeadlines(), 3u);
   const auto gridSteps = (seen.back().deadline - first) / period;
   EXPECT_EQ(static_cast<std::uint64_t>(gridSteps), 29u + scheduler.missedDeadlines());
+}
+
+TEST(PeriodicScheduler, CountsCyclesWokenAPeriodOrMoreLate) {
+  asio::io_context io;
+  testing::SimulatedClock clock(io);
+  constexpr auto period = 1ms;
+  int cycles = 0;
+  PeriodicScheduler scheduler(clock, period, [&] {
+    ++cycles;
+    // The platform holds the thread before its next wake-up (queued ahead of the scheduler's
+    // wait): after cycle 3 for 2.5 periods (woken 1.5 periods late, one deadline skipped), after
+    // cycle 6 for 1.9 periods (woken 0.9 of a period late: on time by this measure).
+    if (cycles == 3) asio::post(io, [&] { clock.advance(2500us); });
+    if (cycles == 6) asio::post(io, [&] { clock.advance(1900us); });
+    return cycles < 10;
+  });
+  scheduler.start();
+  io.run();
+  EXPECT_EQ(scheduler.cycles(), 10u);
+  EXPECT_EQ(scheduler.lateStarts(), 1u);
+  EXPECT_EQ(scheduler.missedDeadlines(), 1u);
+  EXPECT_EQ(scheduler.maxWakeLateness(), 1500us);
 }
 
 TEST(PeriodicScheduler, StopDropsThePendingWait) {

@@ -45,6 +45,10 @@ class PeriodicScheduler {
   std::uint64_t overruns() const noexcept { return overruns_; }
   /// Deadlines skipped because of overruns.
   std::uint64_t missedDeadlines() const noexcept { return missed_; }
+  /// Cycles that started a whole period or more after their deadline (woken that late: the
+  /// measure `cyclictest` counts as wake-ups beyond one period). Together with
+  /// missedDeadlines() these are the deadlines not served within one period.
+  std::uint64_t lateStarts() const noexcept { return lateStarts_; }
   std::chrono::nanoseconds period() const noexcept { return period_; }
   /// The largest delay so far between a deadline and the start of its cycle: the platform's
   /// wake-up latency (timer, idle exit, the vCPU's return on a virtual machine), which an
@@ -66,6 +70,7 @@ class PeriodicScheduler {
   std::uint64_t cycles_ = 0;
   std::uint64_t overruns_ = 0;
   std::uint64_t missed_ = 0;
+  std::uint64_t lateStarts_ = 0;
 };
 
 }  // namespace volcomp::daemon

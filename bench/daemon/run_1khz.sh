@@ -11,7 +11,7 @@
 # exits 1 if one is not.
 #
 # Usage: bench/daemon/run_1khz.sh              (after ./scripts/build.sh)
-# Environment: BUILD_DIR (default ./build), CPU (the CPU of both loops, default the last),
+# Environment: BUILD_DIR (default ./build; or VOLCOMPD and VOLCOMP_SIM, the executables), CPU (the CPU of both loops, default the last),
 #   SERVER_CPU (the simulator's, default 0), BLOCKS (default 6), BLOCK_S (seconds, default 10),
 #   POLICY (fifo or other; default fifo where permitted, else other), KEEP_DIR (keep the raw
 #   files there: cyclictest JSON, volcompd logs, the simulator's report and record).
@@ -23,8 +23,8 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 build="${BUILD_DIR:-$root/build}"
 examples="$root/config/examples"
-sim="$build/tools/sim/volcomp-sim"
-daemon="$build/daemon/volcompd/volcompd"
+sim="${VOLCOMP_SIM:-$build/tools/sim/volcomp-sim}"
+daemon="${VOLCOMPD:-$build/daemon/volcompd/volcompd}"
 cpu="${CPU:-$(($(nproc) - 1))}"
 server_cpu="${SERVER_CPU:-0}"
 blocks="${BLOCKS:-6}"

@@ -70,16 +70,11 @@ trap cleanup EXIT
 
 # Writes a JSON file from an example with edits: edit_json SRC DST PYTHON-STATEMENTS (on `d`).
 edit_json() {
-  python3 - "$1" "$2" "$3" << 'EOF'
-import json, sys
-d = json.load(open(sys.argv[1]))
-exec(sys.argv[3])
-json.dump(d, open(sys.argv[2], "w"), indent=2)
-EOF
+  python3 "$root/bench/daemon/edit_json.py" "$@"
 }
 
 echo "machine: $(lscpu | sed -n 's/^Model name:[[:space:]]*//p'), $(nproc) CPUs, kernel $(uname -r)"
-echo "both loops on CPU $cpu under SCHED_$(echo "$policy" | tr a-z A-Z)${run_as:+ 50}, the simulator on CPU $server_cpu;" \
+echo "both loops on CPU $cpu under SCHED_${policy^^}${run_as:+ 50}, the simulator on CPU $server_cpu;" \
   "$blocks blocks of $block_s s each, alternating"
 echo "load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 

@@ -51,12 +51,7 @@ start_sim() {
 
 # Writes a JSON file from an example with edits: edit_json SRC DST PYTHON-STATEMENTS (on `d`).
 edit_json() {
-  python3 - "$1" "$2" "$3" <<'EOF'
-import json, sys
-d = json.load(open(sys.argv[1]))
-exec(sys.argv[3])
-json.dump(d, open(sys.argv[2], "w"), indent=2)
-EOF
+  python3 "$root/bench/daemon/edit_json.py" "$@"
 }
 
 echo "machine: $(lscpu | sed -n 's/^Model name:[[:space:]]*//p'), $(nproc) CPUs, kernel $(uname -r)"

@@ -4,17 +4,18 @@
 # 1 ms on absolute deadlines), then volcompd at 1 kHz against volcomp-sim over Modbus TCP
 # loopback, both on the same CPU with the same scheduling policy, while the simulator runs
 # throughout on its own CPU. Both are counted with one metric, missed deadlines: deadlines at
-# which no cycle started within one period (a wake-up a period or more late, or a deadline skipped
-# because the wake-up or the cycle before ended after it). Then every write the simulated
-# controller received during the whole run is checked against the limiter (max_offset, max_rate
-# over the controller's time between writes, no step larger than one limiter step); the harness
-# exits 1 if one is not.
+# which no cycle started within one period (a wake-up a period or more late, or a deadline
+# skipped: a whole period past when the thread woke up or the cycle before it ended). Then every
+# write the simulated controller received during the whole run is checked against the limiter
+# (max_offset, max_rate over the controller's time between writes, no step larger than one
+# limiter step); the harness exits 1 if one is not.
 #
 # Usage: bench/daemon/run_1khz.sh              (after ./scripts/build.sh)
-# Environment: BUILD_DIR (default ./build; or VOLCOMPD and VOLCOMP_SIM, the executables), CPU (the CPU of both loops, default the last),
-#   SERVER_CPU (the simulator's, default 0), BLOCKS (default 6), BLOCK_S (seconds, default 10),
-#   POLICY (fifo or other; default fifo where permitted, else other), KEEP_DIR (keep the raw
-#   files there: cyclictest JSON, volcompd logs, the simulator's report and record).
+# Environment: BUILD_DIR (default ./build; or VOLCOMPD and VOLCOMP_SIM, the executables),
+#   CPU (the CPU of both loops, default the last), SERVER_CPU (the simulator's, default 0),
+#   BLOCKS (default 6), BLOCK_S (whole seconds, default 10), POLICY (fifo or other; default fifo
+#   where permitted, else other), KEEP_DIR (keep the raw files there: cyclictest JSON, volcompd
+#   logs, the simulator's report and record).
 # Exit status: 0 figures produced and every write within the limits, 1 a write broke them,
 #   2 the set-up failed. A daemon above the baseline is reported, not an error: the platform's
 #   share varies from block to block, which is what the interleaving shows.
@@ -42,6 +43,14 @@ fail() {
   echo "run_1khz: $*" >&2
   exit 2
 }
+if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
+  sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
+  exit 0
+fi
+for v in cpu server_cpu blocks block_s; do
+  [[ "${!v}" =~ ^[0-9]+$ ]] || fail "${v^^} must be a whole number, not '${!v}'"
+done
+if [ "$blocks" -lt 1 ] || [ "$block_s" -lt 1 ]; then fail "BLOCKS and BLOCK_S must be at least 1"; fi
 for exe in "$sim" "$daemon"; do
   [ -x "$exe" ] || fail "$exe not built (run ./scripts/build.sh)"
 done

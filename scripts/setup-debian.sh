@@ -19,7 +19,7 @@ packages=(
   mbpoll
   # the report opened in a headless browser
   chromium
-  # the platform's pacing baseline beside the daemon's latency figures (bench/daemon/run_latency.sh)
+  # the platform's pacing baseline the daemon's 1 kHz figures are compared with (bench/daemon/run_1khz.sh)
   rt-tests
   # the model format's JSON Schema checked against the examples (tests/config/schema_test.py)
   python3-jsonschema

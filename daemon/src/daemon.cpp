@@ -18,6 +18,10 @@ using loop::LoopState;
 
 namespace {
 
+std::int64_t microseconds(std::chrono::nanoseconds d) {
+  return std::chrono::duration_cast<std::chrono::microseconds>(d).count();
+}
+
 spdlog::level::level_enum levelFromName(const std::string& name) {
   return spdlog::level::from_str(name);
 }
@@ -188,11 +192,12 @@ bool Daemon::cycle() {
     notifier_.notify("STATUS=stopped");
     spdlog::info(
         "stopped after {} cycles ({} overruns); {} late reads, {} unknown write "
-        "outcomes; latest start {} us after its deadline",
+        "outcomes; latest start {} us after its deadline, {} cycles started a period or more "
+        "late, {} deadlines skipped ({} while a cycle ran), longest cycle {} us",
         loop_.counters().cycles, scheduler_.overruns(), loop_.counters().lateReads,
-        loop_.counters().unknownOutcomes,
-        std::chrono::duration_cast<std::chrono::microseconds>(scheduler_.maxWakeLateness())
-            .count());
+        loop_.counters().unknownOutcomes, microseconds(scheduler_.maxWakeLateness()),
+        scheduler_.lateStarts(), scheduler_.missedDeadlines(), scheduler_.missedWhileRunning(),
+        microseconds(scheduler_.longestCycle()));
     if (onFinished_) asio::post(io_, onFinished_);
     return false;
   }

@@ -9,7 +9,7 @@ NextDeadline nextDeadline(loop::Clock::time_point deadline, loop::Clock::time_po
                           std::chrono::nanoseconds period) noexcept {
   NextDeadline next{deadline + period, 0};
   if (now < next.deadline || period.count() <= 0) return next;
-  const auto m = static_cast<std::uint64_t>((now - deadline) / period) + 1;
+  const auto m = static_cast<std::uint64_t>((now - deadline) / period);
   next.deadline = deadline + static_cast<std::int64_t>(m) * period;
   next.missed = m - 1;
   return next;
@@ -44,17 +44,24 @@ void PeriodicScheduler::arm() {
 void PeriodicScheduler::onWake() {
   if (!running_) return;
   // The clock never wakes early: the deadline has passed here.
-  maxWakeLateness_ = std::max(maxWakeLateness_, std::chrono::nanoseconds(clock_.now() - deadline_));
+  const loop::Clock::time_point start = clock_.now();
+  const std::chrono::nanoseconds lateness(start - deadline_);
+  maxWakeLateness_ = std::max(maxWakeLateness_, lateness);
+  if (period_.count() > 0 && lateness >= period_) ++lateStarts_;
   ++cycles_;
   if (!cycle_()) {
     running_ = false;
     return;
   }
   if (!running_) return;  // stopped from inside the cycle
-  const NextDeadline next = nextDeadline(deadline_, clock_.now(), period_);
-  if (next.missed > 0) {
+  const loop::Clock::time_point end = clock_.now();
+  longestCycle_ = std::max(longestCycle_, std::chrono::nanoseconds(end - start));
+  const NextDeadline next = nextDeadline(deadline_, end, period_);
+  if (period_.count() > 0 && end >= deadline_ + period_) {
     ++overruns_;
     missed_ += next.missed;
+    // What the late wake-up alone would have skipped; the rest passed while the cycle ran.
+    missedWhileRunning_ += next.missed - nextDeadline(deadline_, start, period_).missed;
   }
   deadline_ = next.deadline;
   arm();

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <asio/io_context.hpp>
+#include <asio/post.hpp>
 #include <chrono>
 #include <vector>
 
@@ -32,16 +33,29 @@ TEST(NextDeadline, LateWakeUpDoesNotShiftTheFollowingDeadlines) {
   EXPECT_EQ(n.missed, 0u);
 }
 
-TEST(NextDeadline, OverrunSkipsPastDeadlinesAndCountsThem) {
-  // Ended at 25 ms: the deadlines at 10 and 20 ms are gone (2 missed), the next is 30 ms; no
-  // burst of catch-up cycles.
+TEST(NextDeadline, OverrunSkipsDeadlinesAPeriodPastAndServesTheLatestAtOnce) {
+  // Ended at 25 ms: the deadline at 10 ms is a whole period past (1 missed); the one at 20 ms
+  // is due at once, 5 ms late, within its period; the one after is 30 ms. One catch-up cycle at
+  // most, never a burst.
   const NextDeadline n = nextDeadline(t0, t0 + 25ms, 10ms);
-  EXPECT_EQ(n.deadline, t0 + 30ms);
-  EXPECT_EQ(n.missed, 2u);
+  EXPECT_EQ(n.deadline, t0 + 20ms);
+  EXPECT_EQ(n.missed, 1u);
 }
 
-TEST(NextDeadline, EndingExactlyAtTheNextDeadlineCountsAsOneMissed) {
+TEST(NextDeadline, EndingJustAfterTheNextDeadlineServesItLateWithoutSkipping) {
+  const NextDeadline n = nextDeadline(t0, t0 + 10050us, 10ms);
+  EXPECT_EQ(n.deadline, t0 + 10ms);
+  EXPECT_EQ(n.missed, 0u);
+}
+
+TEST(NextDeadline, EndingExactlyAtTheNextDeadlineRunsItNow) {
   const NextDeadline n = nextDeadline(t0, t0 + 10ms, 10ms);
+  EXPECT_EQ(n.deadline, t0 + 10ms);
+  EXPECT_EQ(n.missed, 0u);
+}
+
+TEST(NextDeadline, EndingAWholePeriodAfterTheNextDeadlineSkipsIt) {
+  const NextDeadline n = nextDeadline(t0, t0 + 20ms, 10ms);
   EXPECT_EQ(n.deadline, t0 + 20ms);
   EXPECT_EQ(n.missed, 1u);
 }
@@ -84,11 +98,41 @@ TEST(PeriodicScheduler, RunsOnAbsoluteDeadlinesAndCountsOverruns) {
   }
   EXPECT_GE(scheduler.maxWakeLateness(), 0ns);
   EXPECT_LE(scheduler.maxWakeLateness(), latestSeen);
-  // The slow cycle made 3 deadlines pass: skipped and counted, not made up for.
+  // The slow cycle ran past 3 deadlines: the latest (1.5 periods after its start, half a period
+  // ago) runs at once, late; the 2 before it are skipped and counted, not made up for.
   EXPECT_EQ(scheduler.overruns(), 1u);
-  EXPECT_EQ(scheduler.missedDeadlines(), 3u);
+  EXPECT_EQ(scheduler.missedDeadlines(), 2u);
+  EXPECT_EQ(scheduler.missedWhileRunning(), 2u);
+  EXPECT_EQ(scheduler.longestCycle(), 7ms);
+  EXPECT_EQ(seen[5].deadline, seen[4].deadline + 3 * period);
+  EXPECT_EQ(seen[5].start - seen[5].deadline, 1ms);
   const auto gridSteps = (seen.back().deadline - first) / period;
   EXPECT_EQ(static_cast<std::uint64_t>(gridSteps), 29u + scheduler.missedDeadlines());
+}
+
+TEST(PeriodicScheduler, CountsCyclesWokenAPeriodOrMoreLate) {
+  asio::io_context io;
+  testing::SimulatedClock clock(io);
+  constexpr auto period = 1ms;
+  int cycles = 0;
+  PeriodicScheduler scheduler(clock, period, [&] {
+    ++cycles;
+    // The platform holds the thread before its next wake-up (queued ahead of the scheduler's
+    // wait): after cycle 3 for 2.5 periods (woken 1.5 periods late: a late start; the deadline
+    // half a period ago runs next, at once), after cycle 6 for 1.9 periods (woken 0.9 of a
+    // period late: on time by this measure). Only the late wake-up skipped a deadline: none was
+    // skipped while a cycle ran.
+    if (cycles == 3) asio::post(io, [&] { clock.advance(2500us); });
+    if (cycles == 6) asio::post(io, [&] { clock.advance(1900us); });
+    return cycles < 10;
+  });
+  scheduler.start();
+  io.run();
+  EXPECT_EQ(scheduler.cycles(), 10u);
+  EXPECT_EQ(scheduler.lateStarts(), 1u);
+  EXPECT_EQ(scheduler.missedDeadlines(), 0u);
+  EXPECT_EQ(scheduler.missedWhileRunning(), 0u);
+  EXPECT_EQ(scheduler.maxWakeLateness(), 1500us);
 }
 
 TEST(PeriodicScheduler, StopDropsThePendingWait) {

@@ -25,12 +25,17 @@ class LatencyCompensation : public ProcessTest {
     sim["path"] = {{"type", "points"},
                    {"feed_mm_min", 24000},
                    {"points", {{100, 100, -300}, {750, 400, -100}}}};
-    const Listening at = startSim(sim, {"--port", "0", "--duration", "3"});
+    const Listening at = startSim(sim, {"--port", "0", "--duration", "60"});
     EXPECT_EQ(at.kind, "tcp");
     json daemon = daemonConfig(at, model);
     daemon["latency_compensation"] = {{"enabled", enabled}, {"controller_latency_ms", 0}};
     startDaemon(daemon);
-    const json report = finishSim(/*sendQuit=*/false);
+    // A number of samples, not of seconds: a loaded machine (or a sanitizer build) samples less
+    // often than every tick.
+    EXPECT_TRUE(waitForSim(
+        [](const json& s) { return s["motion_steady_samples"].get<int>() > 1100; }, 50s))
+        << daemonLog();
+    const json report = finishSim();
     EXPECT_TRUE(report.is_object()) << daemonLog();
     stopDaemon();
     std::cerr << "run " << run << (enabled ? " on " : " off") << ": motion-induced RMS "

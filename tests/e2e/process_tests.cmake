@@ -37,3 +37,21 @@ add_dependencies(volcomp_e2e_server_tests volcompd)
 gtest_discover_tests(volcomp_e2e_server_tests
   PROPERTIES LABELS modbus TIMEOUT 60 RUN_SERIAL TRUE
   DISCOVERY_TIMEOUT 30)
+
+# The 1 kHz comparison harness (bench/daemon/run_1khz.sh) in short: two blocks of 3 s each of the
+# empty-loop baseline (cyclictest) and of volcompd at 1 kHz against volcomp-sim. No assertion on
+# the missed-deadline counts (they are the machine's); the harness fails when a figure is missing
+# or when a write in the simulator's record breaks the limiter. It pins both loops to one CPU,
+# hence RUN_SERIAL.
+find_program(CYCLICTEST cyclictest)
+if(CYCLICTEST)
+  add_test(NAME daemon_1khz_vs_baseline_smoke
+           COMMAND env BLOCKS=2 BLOCK_S=3 VOLCOMPD=$<TARGET_FILE:volcompd>
+                   VOLCOMP_SIM=$<TARGET_FILE:volcomp-sim>
+                   ${PROJECT_SOURCE_DIR}/bench/daemon/run_1khz.sh)
+  set_tests_properties(daemon_1khz_vs_baseline_smoke PROPERTIES
+    LABELS modbus TIMEOUT 60 RUN_SERIAL TRUE
+    FAIL_REGULAR_EXPRESSION "run_1khz: FAILED")
+else()
+  message(WARNING "cyclictest (Debian rt-tests) not found: the 1 kHz harness's smoke test is not run")
+endif()

@@ -1,8 +1,9 @@
 #pragma once
 /// Periodic execution on absolute deadlines (the daemon's cycle timing): cycle n is due at
 /// t0 + n * period. A late wake-up does not shift later deadlines; a cycle that ends after the
-/// next deadline skips the deadlines already past (they are counted, never made up for by a burst
-/// of catch-up cycles). Time comes from the injected WaitableClock only.
+/// next deadline runs the latest deadline already past at once (less than a period late) and
+/// skips the older ones (they are counted, never made up for by a burst of catch-up cycles: at
+/// most one cycle runs late). Time comes from the injected WaitableClock only.
 
 #include <chrono>
 #include <cstdint>
@@ -14,12 +15,14 @@ namespace volcomp::daemon {
 
 struct NextDeadline {
   loop::Clock::time_point deadline;
-  std::uint64_t missed = 0;  ///< deadlines skipped because the cycle ended after them
+  std::uint64_t missed =
+      0;  ///< deadlines skipped: a whole period or more past when the cycle ended
 };
 
 /// The deadline after `deadline` for a cycle that ended at `now`: deadline + period when that
-/// is still ahead, else the first deadline + m * period (m >= 2) later than `now`, with
-/// missed = m - 1. Pure.
+/// is not yet past, else the latest deadline + m * period (m >= 1) not later than `now`, due at
+/// once, with missed = m - 1: a deadline the cycle ran past is served late rather than dropped
+/// while a cycle can still start within its period. Pure.
 NextDeadline nextDeadline(loop::Clock::time_point deadline, loop::Clock::time_point now,
                           std::chrono::nanoseconds period) noexcept;
 
@@ -43,8 +46,17 @@ class PeriodicScheduler {
   std::uint64_t cycles() const noexcept { return cycles_; }
   /// Cycles that ended after the following deadline.
   std::uint64_t overruns() const noexcept { return overruns_; }
-  /// Deadlines skipped because of overruns.
+  /// Deadlines skipped because of overruns (no cycle started within a period of them).
   std::uint64_t missedDeadlines() const noexcept { return missed_; }
+  /// Of missedDeadlines(), those that a cycle taking no time would not have skipped: skipped
+  /// while the cycle ran (its I/O included), not while the thread waited to be woken.
+  std::uint64_t missedWhileRunning() const noexcept { return missedWhileRunning_; }
+  /// The longest cycle so far, from its start to its end (I/O included).
+  std::chrono::nanoseconds longestCycle() const noexcept { return longestCycle_; }
+  /// Cycles that started a whole period or more after their deadline (woken that late: the
+  /// measure `cyclictest` counts as wake-ups beyond one period). Together with
+  /// missedDeadlines() these are the deadlines not served within one period.
+  std::uint64_t lateStarts() const noexcept { return lateStarts_; }
   std::chrono::nanoseconds period() const noexcept { return period_; }
   /// The largest delay so far between a deadline and the start of its cycle: the platform's
   /// wake-up latency (timer, idle exit, the vCPU's return on a virtual machine), which an
@@ -66,6 +78,9 @@ class PeriodicScheduler {
   std::uint64_t cycles_ = 0;
   std::uint64_t overruns_ = 0;
   std::uint64_t missed_ = 0;
+  std::uint64_t lateStarts_ = 0;
+  std::uint64_t missedWhileRunning_ = 0;
+  std::chrono::nanoseconds longestCycle_{0};
 };
 
 }  // namespace volcomp::daemon

@@ -32,8 +32,8 @@ class LatencyCompensation : public ProcessTest {
     startDaemon(daemon);
     // A number of samples, not of seconds: a loaded machine (or a sanitizer build) samples less
     // often than every tick.
-    EXPECT_TRUE(waitForSim(
-        [](const json& s) { return s["motion_steady_samples"].get<int>() > 1100; }, 50s))
+    EXPECT_TRUE(
+        waitForSim([](const json& s) { return s["motion_steady_samples"].get<int>() > 1100; }, 50s))
         << daemonLog();
     const json report = finishSim();
     EXPECT_TRUE(report.is_object()) << daemonLog();

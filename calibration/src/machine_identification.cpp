@@ -546,6 +546,27 @@ void MachineIdentification::observationJacobian(const double* p, int i, double* 
   }
 }
 
+Eigen::Vector3d MachineIdentification::locationDirectionDerivative(
+    const LocationParameter& location, const double* p) const {
+  const int axis = location.index / 3;
+  std::array<double, 3> angles{};
+  for (int r = 0; r < 3; ++r) {
+    angles[static_cast<std::size_t>(r)] =
+        model_->spec().locationRad[static_cast<std::size_t>(3 * axis + r)];
+  }
+  for (const LocationParameter& other : locations_) {
+    if (other.index / 3 == axis) {
+      angles[static_cast<std::size_t>(other.index % 3)] = p[other.parameter];
+    }
+  }
+  std::array<double, 3> up = angles, down = angles;
+  up[static_cast<std::size_t>(location.index % 3)] += kRotationStepRad;
+  down[static_cast<std::size_t>(location.index % 3)] -= kRotationStepRad;
+  return (model::rotationZYX(up[0], up[1], up[2]).col(axis) -
+          model::rotationZYX(down[0], down[1], down[2]).col(axis)) /
+         (2.0 * kRotationStepRad) * axisSign_[static_cast<std::size_t>(axis)];
+}
+
 void MachineIdentification::jacobianAt(const double* p, const Point& point, const double* basis,
                                        int rows, bool instrument, double* jacobian) const {
   const int n = parameterCount_;
@@ -598,24 +619,7 @@ void MachineIdentification::jacobianAt(const double* p, const Point& point, cons
   }
   for (const LocationParameter& location : locations_) {
     const int axis = location.index / 3;
-    const int about = location.index % 3;
-    std::array<double, 3> angles{};
-    for (int r = 0; r < 3; ++r) {
-      angles[static_cast<std::size_t>(r)] =
-          model_->spec().locationRad[static_cast<std::size_t>(3 * axis + r)];
-    }
-    for (const LocationParameter& other : locations_) {
-      if (other.index / 3 == axis) {
-        angles[static_cast<std::size_t>(other.index % 3)] = p[other.parameter];
-      }
-    }
-    std::array<double, 3> up = angles, down = angles;
-    up[static_cast<std::size_t>(about)] += kRotationStepRad;
-    down[static_cast<std::size_t>(about)] -= kRotationStepRad;
-    const Eigen::Vector3d derivative =
-        (model::rotationZYX(up[0], up[1], up[2]).col(axis) -
-         model::rotationZYX(down[0], down[1], down[2]).col(axis)) /
-        (2.0 * kRotationStepRad) * (axisSign_[static_cast<std::size_t>(axis)] * point.qMm[axis]);
+    const Eigen::Vector3d derivative = locationDirectionDerivative(location, p) * point.qMm[axis];
     for (int row = 0; row < rows; ++row) {
       double sum = 0.0;
       for (int t = 0; t < 3; ++t) {

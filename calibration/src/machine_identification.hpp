@@ -95,6 +95,11 @@ class MachineIdentification final : public IdentificationProblem {
   /// instrument frame when `frame` is not null.
   void predict(const double* frame, const Point& point, const model::MotionValues& values, int rows,
                double* out) const;
+  /// d(direction of the axis of `location`, signed as the axis moves)/d(its angle), rad^-1, at
+  /// the parameters `p` (the axis's other location angles from `p` where identified, else from
+  /// the template): a central difference of the ZYX rotation's column.
+  Eigen::Vector3d locationDirectionDerivative(const LocationParameter& location,
+                                              const double* p) const;
   /// Unweighted rows x n Jacobian of predict() at point; with `instrument` the frame parameters
   /// take part, otherwise their columns are zero (the machine's own error).
   void jacobianAt(const double* p, const Point& point, const double* basis, int rows,

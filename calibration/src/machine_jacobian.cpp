@@ -50,24 +50,7 @@ void MachineIdentification::jacobian(const Eigen::VectorXd& p, Eigen::MatrixXd& 
   // Per location parameter: d(direction of its axis)/d(angle), the same for every point.
   std::vector<Eigen::Vector3d> locationDerivative;
   for (const LocationParameter& location : locations_) {
-    const int axis = location.index / 3;
-    std::array<double, 3> angles{};
-    for (int r = 0; r < 3; ++r) {
-      angles[static_cast<std::size_t>(r)] =
-          model_->spec().locationRad[static_cast<std::size_t>(3 * axis + r)];
-    }
-    for (const LocationParameter& other : locations_) {
-      if (other.index / 3 == axis) {
-        angles[static_cast<std::size_t>(other.index % 3)] = p(other.parameter);
-      }
-    }
-    std::array<double, 3> up = angles, down = angles;
-    up[static_cast<std::size_t>(location.index % 3)] += kRotationStepRad;
-    down[static_cast<std::size_t>(location.index % 3)] -= kRotationStepRad;
-    locationDerivative.push_back((model::rotationZYX(up[0], up[1], up[2]).col(axis) -
-                                  model::rotationZYX(down[0], down[1], down[2]).col(axis)) /
-                                 (2.0 * kRotationStepRad) *
-                                 axisSign_[static_cast<std::size_t>(axis)]);
+    locationDerivative.push_back(locationDirectionDerivative(location, p.data()));
   }
 
   model::Workspace ws;

@@ -24,6 +24,10 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                "linuxcnc", "harness"))
+import lcnc as harness  # noqa: E402  (the LinuxCNC harness: one INI for every LinuxCNC test)
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 AXES = "XYZ"
 # Travel of the model (config/examples/vmc-xyfz-21.json) and where the test samples it: table nodes,
@@ -101,54 +105,16 @@ def model_correction(volcomp, model, axis, work):
 
 
 def write_ini(path, comp_dir, comp_type):
-    joints = ""
-    for j, axis in enumerate(AXES):
-        low, high = TRAVEL[axis]
-        joints += ("\n[AXIS_%s]\nMAX_VELOCITY = 400\nMAX_ACCELERATION = 4000\nMIN_LIMIT = %g\n"
-                   "MAX_LIMIT = %g\n\n[JOINT_%d]\nTYPE = LINEAR\nMAX_VELOCITY = 400\n"
-                   "MAX_ACCELERATION = 4000\nMIN_LIMIT = %g\nMAX_LIMIT = %g\nHOME_SEQUENCE = 0\n"
-                   "COMP_FILE = %s\nCOMP_FILE_TYPE = %d\n"
-                   % (axis, low - 30, high + 30, j, low - 30, high + 30,
-                      os.path.join(comp_dir, "joint%d.comp" % j), comp_type))
+    """The LinuxCNC harness's configuration (tests/linuxcnc/harness/lcnc.py) with every joint's
+    COMP_FILE and COMP_FILE_TYPE, and 30 mm of travel beyond the model's on each side."""
+    joint_extra = {j: "COMP_FILE = %s\nCOMP_FILE_TYPE = %d\n"
+                      % (os.path.join(comp_dir, "joint%d.comp" % j), comp_type)
+                   for j in range(len(AXES))}
+    axes = {axis: (TRAVEL[axis][0] - 30, TRAVEL[axis][1] + 30) for axis in AXES}
+    machine = harness.Machine(os.path.dirname(path), axes, max_velocity=400, max_acceleration=4000,
+                              joint_extra=joint_extra, name="volcomp-comp-file-test")
     with open(path, "w") as f:
-        f.write("""[EMC]
-VERSION = 1.1
-MACHINE = volcomp-comp-file-test
-
-[DISPLAY]
-DISPLAY = ./headless.py
-
-[TASK]
-TASK = milltask
-CYCLE_TIME = 0.001
-
-[RS274NGC]
-PARAMETER_FILE = sim.var
-
-[EMCMOT]
-EMCMOT = motmod
-COMM_TIMEOUT = 4.0
-SERVO_PERIOD = 1000000
-
-[EMCIO]
-EMCIO = io
-CYCLE_TIME = 0.100
-TOOL_TABLE = sim.tbl
-
-[HAL]
-HALFILE = sim.hal
-
-[TRAJ]
-COORDINATES = XYZ
-LINEAR_UNITS = mm
-ANGULAR_UNITS = degree
-DEFAULT_LINEAR_VELOCITY = 200
-MAX_LINEAR_VELOCITY = 400
-
-[KINS]
-JOINTS = 3
-KINEMATICS = trivkins coordinates=XYZ
-""" + joints)
+        f.write(machine.ini_text())
 
 
 class LinuxCnc:

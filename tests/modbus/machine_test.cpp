@@ -34,6 +34,32 @@ TEST(SimPath, PolylineAtFeed) {
   EXPECT_NEAR(p.at(2.0)[0], 0.0, 1e-9);
 }
 
+TEST(SimPath, ExactStopBrakesAtEveryPoint) {
+  // 100 mm/s, 1000 mm/s^2: 0.1 s and 5 mm to reach the feed, 0.9 s of cruise, 0.1 s of braking:
+  // 1.1 s per 100 mm segment, at rest at both ends.
+  const Path p = Path::polyline({{0, 0, 0}, {100, 0, 0}}, 6000.0).withAcceleration(1000.0);
+  EXPECT_NEAR(p.at(0.05)[0], 1.25, 1e-9);
+  EXPECT_NEAR(p.at(0.55)[0], 50.0, 1e-9);
+  EXPECT_NEAR(p.at(1.05)[0], 100.0 - 1.25, 1e-9);
+  EXPECT_NEAR(p.at(1.1)[0], 100.0, 1e-9);
+  EXPECT_NEAR(p.at(1.15)[0], 100.0 - 1.25, 1e-9);  // on the way back
+  EXPECT_NEAR(p.at(2.2)[0], 0.0, 1e-9);
+  // The reversal at x = 100 is one constant deceleration: velocity continuous, |a| <= 1000.
+  const double h = 1e-4;
+  for (double t = 0.95; t < 1.25; t += 0.001) {
+    const double v0 = (p.at(t)[0] - p.at(t - h)[0]) / h, v1 = (p.at(t + h)[0] - p.at(t)[0]) / h;
+    EXPECT_LE(std::abs(v1), 100.0 + 1e-6);
+    EXPECT_LE(std::abs(v1 - v0) / h, 1000.0 * 1.001) << t;
+  }
+  // A segment too short for the feed: braking starts halfway (2 mm at 1000 mm/s^2: 2 x 44.7 ms).
+  const Path s = Path::polyline({{0, 0, 0}, {2, 0, 0}}, 6000.0).withAcceleration(1000.0);
+  EXPECT_NEAR(s.at(std::sqrt(0.002))[0], 1.0, 1e-9);
+  EXPECT_NEAR(s.at(2.0 * std::sqrt(0.002))[0], 2.0, 1e-9);
+  EXPECT_THROW((void)Path::circle({0, 0, 0}, 10.0, 100.0).withAcceleration(1000.0),
+               std::invalid_argument);
+  EXPECT_THROW((void)p.withAcceleration(0.0), std::invalid_argument);
+}
+
 TEST(SimPath, CircleStaysOnTheCircle) {
   const Path p = Path::circle({100, 50, -20}, 30.0, 3000.0);
   for (double t : {0.0, 0.3, 1.7, 5.55}) {
@@ -267,14 +293,34 @@ TEST(SimMachine, MotionInducedErrorIsWhatTheIdealOffsetOfTheInstantWouldNotLeave
   EXPECT_NEAR(r["max_compensated_um"].get<double>(), lagUm, 1e-9) << "the model is exact";
   EXPECT_EQ(r["motion_steady_samples"], 2) << "no reversal yet";
   // The reversal at x = 1000 (t = 10 s), seen by the sample at 10.01 s: the three cycles after
-  // it are its transient.
+  // it are its transient, and so are the three before it (9.995 s; 9.97 s is further away).
+  m.sample(9.97);
   m.sample(9.995);
+  EXPECT_EQ(m.report(9.995)["motion_steady_samples"], 4) << "steady as far as known at the end";
   m.sample(10.01);
   m.sample(10.02);
   m.sample(10.05);
   r = m.report(10.05);
-  EXPECT_EQ(r["samples"], 6);
+  EXPECT_EQ(r["samples"], 7);
   EXPECT_EQ(r["motion_steady_samples"], 4);
+}
+
+TEST(SimMachine, TheAxesFeelAWriteTheControllerLatencyAfterItArrives) {
+  // E(x) = (1e-3, 0, 0) mm everywhere; an offset of -1e-3 removes it. With 4 ms of controller
+  // latency the axes keep the old (zero) offset for 4 ms after the write.
+  ErrorFunction e = [](const Vec3&, const MotionDirections&) { return Vec3{1e-3, 0, 0}; };
+  MachineOptions opt;
+  opt.axisLatencyS = 0.004;
+  Machine m = standing({10, 0, 0}, opt, e);
+  m.onWrite(0.0, offsets(0, 0, 0));
+  m.sample(0.001);
+  m.onWrite(0.002, offsets(-1e-3, 0, 0));
+  EXPECT_EQ(m.inputs(0.0025).appliedOffsetMm[0], -1e-3) << "the register has it at once";
+  for (int i = 3; i <= 10; ++i) m.sample(i * 0.001);
+  // Samples at 1, 3 .. 10 ms: the axes feel the write from 6 ms on: 1 um at 1, 3, 4 and 5 ms.
+  nlohmann::json r = m.report(0.010);
+  EXPECT_EQ(r["samples"], 9);
+  EXPECT_NEAR(r["rms_compensated_um"].get<double>(), std::sqrt(4.0 / 9.0), 1e-9);
 }
 
 TEST(SimMachine, HeartbeatWatchdogRampsTheOffsetsAway) {

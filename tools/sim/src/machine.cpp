@@ -84,6 +84,24 @@ void Machine::advanceLocked(double tS) {
     }
   }
   lastT_ = tS;
+  if (options_.axisLatencyS > 0.0 &&
+      (appliedHistory_.empty() || appliedHistory_.back().second != applied_)) {
+    appliedHistory_.emplace_back(tS, applied_);
+  }
+}
+
+// The offset acting at the axes: what was applied axisLatencyS ago.
+Vec3 Machine::atAxesLocked(double tS) {
+  if (!(options_.axisLatencyS > 0.0)) return applied_;
+  if (appliedHistory_.empty() || appliedHistory_.back().second != applied_) {
+    appliedHistory_.emplace_back(tS, applied_);
+  }
+  const double then = tS - options_.axisLatencyS;
+  while (appliedHistory_.size() > 1 && appliedHistory_[1].first <= then) {
+    appliedHistory_.pop_front();
+  }
+  return appliedHistory_.front().first <= then ? appliedHistory_.front().second
+                                               : options_.initialOffsetMm;
 }
 
 loop::AxisSample Machine::inputs(double tS) {
@@ -98,9 +116,10 @@ loop::AxisSample Machine::inputs(double tS) {
     return s;
   }
   loop::AxisSample s;
+  const Vec3 atAxes = atAxesLocked(tS);
   for (std::size_t k = 0; k < 3; ++k) {
     s.positionMm[k] = options_.semantics == loop::PositionSemantics::Actual
-                          ? programmed_[k] + applied_[k]
+                          ? programmed_[k] + atAxes[k]
                           : programmed_[k];
   }
   s.enable = enable_;
@@ -192,6 +211,7 @@ void Machine::onWrite(double tS, const loop::OffsetCommand& command, bool partia
     lastHeartbeatChangeT_ = tS;
     watchdogTripped_ = false;
   }
+  if (options_.axisLatencyS > 0.0) appliedHistory_.emplace_back(tS, applied_);
   controllerChanged_ = false;
   lastWriteT_ = tS;
   ++writeCount_;
@@ -243,11 +263,12 @@ void Machine::sample(double tS) {
   if (!anyWrite_ || tS < firstWriteT_ + options_.settleS) return;
   const Vec3 q = programmed_;
   const Vec3 e = trueError_(q, directions_);
+  const Vec3 atAxes = atAxesLocked(tS);
   Vec3 moved{};
-  for (std::size_t k = 0; k < 3; ++k) moved[k] = q[k] + applied_[k];
+  for (std::size_t k = 0; k < 3; ++k) moved[k] = q[k] + atAxes[k];
   const Vec3 em = trueError_(moved, directions_);
   Vec3 comp{};
-  for (std::size_t k = 0; k < 3; ++k) comp[k] = em[k] + applied_[k];
+  for (std::size_t k = 0; k < 3; ++k) comp[k] = em[k] + atAxes[k];
   uncompensated_.add(e);
   compensated_.add(comp);
   // The ideal offset at this instant: o* = -E(q + o*) (the daemon's solve with the true model,
@@ -267,10 +288,20 @@ void Machine::sample(double tS) {
   Vec3 motion{};
   for (std::size_t k = 0; k < 3; ++k) motion[k] = comp[k] - (ei[k] + ideal[k]);
   motion_.add(motion);
-  // A reversal cannot be seen before it happens: the cycles just after one (until the daemon has
-  // read it, decided and written) are its transient; the rest is steady motion.
-  if (!(tS - lastReversalT_ < kReversalWindowCycles * options_.limits.cycleS))
-    motionSteady_.add(motion);
+  // Steady motion is what lies more than the window away from every reversal: after one until the
+  // daemon has read it, decided and written; before one where it predicted the turn.
+  const double window = kReversalWindowCycles * options_.limits.cycleS;
+  if (lastReversalT_ > lastSampleT_) {
+    while (!steadyPending_.empty() && steadyPending_.back().first > lastReversalT_ - window) {
+      steadyPending_.pop_back();
+    }
+  }
+  lastSampleT_ = tS;
+  while (!steadyPending_.empty() && steadyPending_.front().first < tS - window) {
+    motionSteady_.add(steadyPending_.front().second);
+    steadyPending_.pop_front();
+  }
+  if (!(tS - lastReversalT_ < window)) steadyPending_.emplace_back(tS, motion);
 }
 
 void Machine::stall(double tS, double durationS) {
@@ -348,6 +379,9 @@ Vec3 Machine::programmedPositionMm() const {
 nlohmann::json Machine::report(double tS) const {
   std::lock_guard lock(mutex_);
   using nlohmann::json;
+  // The samples of the last window: steady as far as anybody knows at the end of the run.
+  ErrorStatistics motionSteady = motionSteady_;
+  for (const auto& pending : steadyPending_) motionSteady.add(pending.second);
   json axes = json::object();
   for (std::size_t k = 0; k < 3; ++k) {
     axes[kAxes[k]] = {
@@ -375,9 +409,9 @@ nlohmann::json Machine::report(double tS) const {
       {"max_compensated_um", compensated_.maxNorm * 1000.0},
       {"rms_motion_um", rmsUm(motion_.sumSqNorm, motion_.samples)},
       {"max_motion_um", motion_.maxNorm * 1000.0},
-      {"rms_motion_steady_um", rmsUm(motionSteady_.sumSqNorm, motionSteady_.samples)},
-      {"max_motion_steady_um", motionSteady_.maxNorm * 1000.0},
-      {"motion_steady_samples", motionSteady_.samples},
+      {"rms_motion_steady_um", rmsUm(motionSteady.sumSqNorm, motionSteady.samples)},
+      {"max_motion_steady_um", motionSteady.maxNorm * 1000.0},
+      {"motion_steady_samples", motionSteady.samples},
       {"axes", axes},
       {"applied_offset_mm", applied_},
       {"sessions", sessions_},

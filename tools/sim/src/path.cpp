@@ -22,7 +22,46 @@ void checkFeed(double feedMmMin) {
   }
 }
 
+// Exact-stop timing of one segment of length lengthMm: duration, and the distance covered after
+// tS of it (trapezoid, or triangle when the feed is not reached).
+struct SegmentProfile {
+  double lengthMm, feedMmS, accelMmS2;
+  double rampS() const noexcept {
+    return std::min(feedMmS / accelMmS2, std::sqrt(lengthMm / accelMmS2));
+  }
+  double durationS() const noexcept {
+    const double ramp = rampS();
+    const double rampMm = accelMmS2 * ramp * ramp;  // both ramps
+    return 2.0 * ramp + (lengthMm - rampMm) / feedMmS;
+  }
+  double distanceMm(double tS) const noexcept {
+    const double ramp = rampS(), total = durationS();
+    if (tS <= ramp) return 0.5 * accelMmS2 * tS * tS;
+    if (tS >= total - ramp) {
+      const double left = std::max(0.0, total - tS);
+      return lengthMm - 0.5 * accelMmS2 * left * left;
+    }
+    return 0.5 * accelMmS2 * ramp * ramp + accelMmS2 * ramp * (tS - ramp);
+  }
+};
+
 }  // namespace
+
+Path Path::withAcceleration(double accelMmS2) const {
+  if (kind_ != Kind::Polyline)
+    throw std::invalid_argument("only a polyline path has corners to brake at");
+  if (!(accelMmS2 > 0.0) || !std::isfinite(accelMmS2)) {
+    throw std::invalid_argument("path acceleration must be a positive number of mm/s^2");
+  }
+  Path p = *this;
+  p.accelMmS2_ = accelMmS2;
+  p.cumS_.assign(1, 0.0);
+  for (std::size_t i = 1; i < points_.size(); ++i) {
+    const SegmentProfile seg{cumMm_[i] - cumMm_[i - 1], feedMmMin_ / 60.0, accelMmS2};
+    p.cumS_.push_back(p.cumS_.back() + seg.durationS());
+  }
+  return p;
+}
 
 Path Path::polyline(std::vector<Vec3> points, double feedMmMin) {
   checkFeed(feedMmMin);
@@ -96,6 +135,18 @@ Path Path::fromCsv(const std::string& file, double feedMmMin) {
 
 Vec3 Path::at(double pathTimeS) const noexcept {
   if (lengthMm_ <= 0.0) return kind_ == Kind::Circle ? center_ : points_.front();
+  if (accelMmS2_ > 0.0) {
+    const double t = std::fmod(std::max(0.0, pathTimeS), cumS_.back());
+    const auto it = std::upper_bound(cumS_.begin(), cumS_.end(), t);
+    const auto i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(1, it - cumS_.begin()));
+    if (i >= points_.size()) return points_.back();
+    const SegmentProfile seg{cumMm_[i] - cumMm_[i - 1], feedMmMin_ / 60.0, accelMmS2_};
+    const double f = seg.lengthMm > 0.0 ? seg.distanceMm(t - cumS_[i - 1]) / seg.lengthMm : 0.0;
+    Vec3 out{};
+    for (std::size_t k = 0; k < 3; ++k)
+      out[k] = points_[i - 1][k] + f * (points_[i][k] - points_[i - 1][k]);
+    return out;
+  }
   double s = std::fmod(feedMmMin_ / 60.0 * std::max(0.0, pathTimeS), lengthMm_);
   if (kind_ == Kind::Circle) {
     const double a = s / radiusMm_;

@@ -36,7 +36,7 @@ PathSpec parsePath(const JsonReader& r, const std::string& file) {
   p.type = r.at("type").oneOf({"raster", "circle", "points", "csv"});
   p.feedMmMin = r.at("feed_mm_min").number(1e-3, 1e6);
   if (p.type == "raster") {
-    r.allowOnly({"type", "feed_mm_min", "from", "to", "step_mm"});
+    r.allowOnly({"type", "feed_mm_min", "from", "to", "step_mm", "accel_mm_s2"});
     p.from = vec3(r.at("from"));
     p.to = vec3(r.at("to"));
     p.stepMm = r.at("step_mm").number(1e-3, 1e6);
@@ -45,12 +45,13 @@ PathSpec parsePath(const JsonReader& r, const std::string& file) {
     p.center = vec3(r.at("center"));
     p.radiusMm = r.at("radius_mm").number(1e-3, 1e6);
   } else if (p.type == "points") {
-    r.allowOnly({"type", "feed_mm_min", "points"});
+    r.allowOnly({"type", "feed_mm_min", "points", "accel_mm_s2"});
     for (const JsonReader& e : r.at("points").elements(1)) p.points.push_back(vec3(e));
   } else {
-    r.allowOnly({"type", "feed_mm_min", "file"});
+    r.allowOnly({"type", "feed_mm_min", "file", "accel_mm_s2"});
     p.csvFile = resolve(file, r.at("file").string());
   }
+  if (auto a = r.find("accel_mm_s2")) p.accelMmS2 = a->number(1.0, 1e6);
   return p;
 }
 
@@ -60,7 +61,7 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
   const JsonReader root(document, file);
   root.allowOnly({"model", "position_semantics", "path", "limits", "heartbeat_timeout_ms",
                   "watchdog_ramp_mm_s", "initial_offset_mm", "settle_ms", "tick_ms",
-                  "can_broadcast_ms", "transport", "comment"});
+                  "can_broadcast_ms", "controller_latency_ms", "transport", "comment"});
   SimConfig c;
   c.file = file;
   if (auto m = root.find("model")) c.modelPath = resolve(file, m->string());
@@ -85,6 +86,9 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
   c.machine.settleS = root.numberOr("settle_ms", 0.0) / 1000.0;
   if (c.machine.settleS < 0.0) root.at("settle_ms").failExpected(">= 0");
   if (auto v = root.find("tick_ms")) c.tickS = v->number(0.1, 1000.0) / 1000.0;
+  if (auto v = root.find("controller_latency_ms")) {
+    c.machine.axisLatencyS = v->number(0.0, 100.0) / 1000.0;
+  }
   c.transport = config::parseTransportSettings(root.at("transport").json(), file, "transport");
   if (const auto* layout = std::get_if<can::CanLayout>(&c.transport)) {
     if (auto v = root.find("can_broadcast_ms")) c.canBroadcastS = v->number(0.1, 1000.0) / 1000.0;
@@ -104,10 +108,11 @@ SimConfig loadSimConfig(const std::string& file) {
 }
 
 Path makePath(const PathSpec& s) {
-  if (s.type == "raster") return Path::raster(s.from, s.to, s.stepMm, s.feedMmMin);
   if (s.type == "circle") return Path::circle(s.center, s.radiusMm, s.feedMmMin);
-  if (s.type == "points") return Path::polyline(s.points, s.feedMmMin);
-  return Path::fromCsv(s.csvFile, s.feedMmMin);
+  Path p = s.type == "raster"   ? Path::raster(s.from, s.to, s.stepMm, s.feedMmMin)
+           : s.type == "points" ? Path::polyline(s.points, s.feedMmMin)
+                                : Path::fromCsv(s.csvFile, s.feedMmMin);
+  return s.accelMmS2 > 0.0 ? p.withAcceleration(s.accelMmS2) : p;
 }
 
 Vec3 offsetQuantumMm(const modbus::RegisterMap& map) noexcept {

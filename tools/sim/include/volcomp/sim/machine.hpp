@@ -21,10 +21,12 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <limits>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -72,6 +74,10 @@ struct MachineOptions {
   double watchdogRampMmS = 1.0;
   /// Statistics start this long after the first write.
   double settleS = 0.0;
+  /// The controller's own delay from receiving an offset to applying it at the axes (its PLC
+  /// scan, its interpolation cycle), s. The registers, the read-back and the rate check see a
+  /// write when it arrives; the axes (the error statistics, actual positions) this much later.
+  double axisLatencyS = 0.0;
   bool enable = true;
   bool homed = true;
   /// Keep every WriteRecord for writes() (for --record); otherwise only counters grow.
@@ -218,10 +224,17 @@ class Machine {
   /// The compensated error minus what the ideal offset (the true model solved at the true
   /// position and direction of the same instant) would leave: what the offsets' lag behind the
   /// motion, the direction tracking and the limiter add.
-  /// motionSteady_: the samples more than three writer cycles (Limits::cycleS) after the last
-  /// reversal of any axis (a reversal is only seen once it happened: the transient after it).
+  /// motionSteady_: the samples more than three writer cycles (Limits::cycleS) away from any
+  /// reversal of any axis, before or after it (the transient after a turn; and before it, where a
+  /// daemon predicting the turn already blends the other direction in). A sample waits in
+  /// steadyPending_ until it is that old, and is dropped if a reversal comes first.
   ErrorStatistics uncompensated_, compensated_, motion_, motionSteady_;
+  std::deque<std::pair<double, Vec3>> steadyPending_;
+  /// With axisLatencyS: applied_ since it last took effect at the axes, (time, value).
+  std::deque<std::pair<double, Vec3>> appliedHistory_;
+  Vec3 atAxesLocked(double tS);
   double lastReversalT_ = -std::numeric_limits<double>::infinity();
+  double lastSampleT_ = -std::numeric_limits<double>::infinity();
 };
 
 }  // namespace volcomp::sim

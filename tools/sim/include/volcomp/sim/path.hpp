@@ -24,8 +24,14 @@ class Path {
   /// suffix such as x_um; any order; `#` comments), one row per point. Throws config::ConfigError
   /// (a std::runtime_error) naming the file, line and column.
   static Path fromCsv(const std::string& file, double feedMmMin);
+  /// The same polyline driven as a CNC in exact stop drives it: every segment starts and ends at
+  /// rest, accelerating and braking at `accelMmS2` (mm/s^2, along the path) around a cruise at the
+  /// feed, or braking at once where the segment is too short to reach the feed. A reversal is
+  /// then a constant deceleration through zero velocity, as on a real machine, not a jump of the
+  /// velocity. Throws std::invalid_argument for a circle or a non-positive acceleration.
+  Path withAcceleration(double accelMmS2) const;
 
-  /// Programmed position after `pathTimeS` seconds of motion.
+  /// Programmed position after `pathTimeS` seconds of motion (the path repeats).
   Vec3 at(double pathTimeS) const noexcept;
   double lengthMm() const noexcept { return lengthMm_; }
   double feedMmMin() const noexcept { return feedMmMin_; }
@@ -37,6 +43,8 @@ class Path {
   Kind kind_ = Kind::Polyline;
   std::vector<Vec3> points_;   // polyline vertices, closed (last = first)
   std::vector<double> cumMm_;  // arc length at each vertex
+  double accelMmS2_ = 0.0;     // 0: constant feed, corners taken without braking
+  std::vector<double> cumS_;   // with accelMmS2_: path time at each vertex
   Vec3 center_{};
   double radiusMm_ = 0.0;
   double lengthMm_ = 0.0;

@@ -49,6 +49,7 @@ struct PathSpec {
   std::vector<Vec3> points;
   std::string csvFile;  ///< resolved against the configuration file's directory
   double feedMmMin = 1000.0;
+  double accelMmS2 = 0.0;  ///< polyline paths: exact stop at every point, this acceleration; 0 off
 };
 
 struct SimConfig {

@@ -122,6 +122,7 @@ class FakeModel final : public CompensationModel {
     ++calls;
     ModelOffset r;
     r.offsetMm = offset_;
+    if (directions[0] == model::Direction::Negative) r.offsetMm[0] += negativeXShiftMm;
     r.converged = converged;
     return r;
   }
@@ -132,6 +133,8 @@ class FakeModel final : public CompensationModel {
 
   void setOffset(std::array<double, 3> o) noexcept { offset_ = o; }
   bool converged = true;
+  /// A bidirectional X table: this much more X offset while X moves negative.
+  double negativeXShiftMm = 0.0;
   std::array<double, 3> lastQ{};
   model::Directions lastDirections{};
   int calls = 0;

@@ -241,10 +241,10 @@ FaultCode CompensationLoop::checkInputs(time_point now, std::array<double, 3>& q
 // the fault time is a fault of its own.
 void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>& qMm, bool newData,
                                      Decision& d, CycleReport& report) noexcept {
-  model::Directions directions = tracker_.update(qMm);
-  const std::array<double, 3> evalMm =
-      settings_.latencyCompensation ? latencyCompensated(qMm, newData, directions) : qMm;
-  const ModelOffset result = model_->offset(evalMm, directions);
+  const model::Directions directions = tracker_.update(qMm);
+  const ModelOffset result = settings_.latencyCompensation
+                                 ? holdOffset(latencyCompensated(qMm, newData, directions))
+                                 : model_->offset(qMm, directions);
   if (result.clampedAxes != 0) d.outOfTravel = true;
   if (!allFinite(result.offsetMm)) {
     d.fault = FaultCode::ModelInvalid;
@@ -280,30 +280,57 @@ void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>
   if (reached(settings_.saturationFault)) d.fault = FaultCode::SustainedLimit;
 }
 
-// The tracker follows the measured positions: an extrapolation that overshoots a stop must not
-// turn its direction. Only sure axes are extrapolated (and take the estimate's direction), and
-// never out of the travel they are in, which would set OUT_OF_TRAVEL for a position not reached.
-std::array<double, 3> CompensationLoop::latencyCompensated(const std::array<double, 3>& qMm,
-                                                           bool newData,
-                                                           model::Directions& directions) noexcept {
+// The tracker follows the measured positions only: what the prediction assumes for the hold (an
+// extrapolated position, a direction after a predicted turn) never feeds back into it, so an
+// extrapolation past a stop cannot turn its direction. Nothing is extrapolated out of the travel
+// an axis is in, which would set OUT_OF_TRAVEL for a position not reached.
+HoldPrediction CompensationLoop::latencyCompensated(const std::array<double, 3>& qMm, bool newData,
+                                                    const model::Directions& directions) noexcept {
   // Samples more than two periods apart belong to another motion (a pause, a late cycle).
   if (newData) estimator_.add(sampledAt_, qMm, 2 * settings_.period + settings_.readToWriteMax);
   // The write leaves about now; it is applied half its transaction later.
   const auto horizon = (clock_.now() - sampledAt_) + lastWriteDuration_ / 2 +
                        settings_.controllerLatency + settings_.period / 2;
-  std::array<double, 3> out = qMm;
-  if (predictPositions(estimator_, out, directions, horizon,
-                       settings_.controllerLatency + 2 * settings_.period,
-                       settings_.directionHysteresisMm) > 0) {
-    ++counters_.extrapolatedCycles;
-  }
+  HoldPrediction hold = predictHold(estimator_, qMm, directions, horizon, settings_.period,
+                                    settings_.controllerLatency + 2 * settings_.period,
+                                    settings_.directionHysteresisMm);
+  if (hold.extrapolated > 0) ++counters_.extrapolatedCycles;
+  if (hold.turns > 0) ++counters_.turnCycles;
   const auto& travel = model_->travelMm();
   for (std::size_t k = 0; k < 3; ++k) {
     if (!travel[k]) continue;
     const double lo = (*travel[k])[0], hi = (*travel[k])[1];
-    if (qMm[k] >= lo && qMm[k] <= hi) out[k] = std::clamp(out[k], lo, hi);
+    if (qMm[k] >= lo && qMm[k] <= hi) hold.qMm[k] = std::clamp(hold.qMm[k], lo, hi);
   }
-  return out;
+  return hold;
+}
+
+// A hold with turns in it: the model's offset for each piece between turns (directions switched
+// at each turn), weighted by the piece's share of the hold. That mean is the constant nearest
+// (least squares) to the ideal offset, which jumps at each turn of a bidirectional table.
+ModelOffset CompensationLoop::holdOffset(const HoldPrediction& hold) noexcept {
+  if (hold.turns == 0) return model_->offset(hold.qMm, hold.directions);
+  ModelOffset mean;
+  mean.converged = true;
+  model::Directions directions = hold.directions;
+  double from = 0.0;
+  for (std::size_t piece = 0; piece <= hold.turns; ++piece) {
+    const double to = piece < hold.turns ? std::clamp(hold.turnFraction[piece], 0.0, 1.0) : 1.0;
+    if (to > from) {
+      const ModelOffset o = model_->offset(hold.qMm, directions);
+      for (std::size_t k = 0; k < 3; ++k) mean.offsetMm[k] += (to - from) * o.offsetMm[k];
+      mean.converged = mean.converged && o.converged;
+      mean.clampedAxes |= o.clampedAxes;
+    }
+    if (piece < hold.turns) {
+      const std::size_t axis = hold.turnAxis[piece];
+      directions[axis] = directions[axis] == model::Direction::Positive
+                             ? model::Direction::Negative
+                             : model::Direction::Positive;
+    }
+    from = std::max(from, to);
+  }
+  return mean;
 }
 
 // A latched fault stays until the controller acknowledges it: a rising edge of its fault-ack

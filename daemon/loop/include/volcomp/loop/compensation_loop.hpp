@@ -124,6 +124,9 @@ struct LoopCounters {
   /// Cycles whose model evaluation used an extrapolated position on at least one axis (latency
   /// compensation on and the velocity estimate sure).
   std::uint64_t extrapolatedCycles = 0;
+  /// Cycles whose hold was predicted to contain a turn of an axis (the offset written is then the
+  /// hold's mean of both directions' offsets).
+  std::uint64_t turnCycles = 0;
 };
 
 class CompensationLoop {
@@ -187,8 +190,9 @@ class CompensationLoop {
   Decision decide(time_point now, bool readFailed, CycleReport& report) noexcept;
   void evaluateModel(time_point now, const std::array<double, 3>& qMm, bool newData, Decision& d,
                      CycleReport& report) noexcept;
-  std::array<double, 3> latencyCompensated(const std::array<double, 3>& qMm, bool newData,
-                                           model::Directions& directions) noexcept;
+  HoldPrediction latencyCompensated(const std::array<double, 3>& qMm, bool newData,
+                                    const model::Directions& directions) noexcept;
+  ModelOffset holdOffset(const HoldPrediction& hold) noexcept;
   void applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept;
   bool readbackOutOfRange() const noexcept;
   std::chrono::nanoseconds readToWriteBound(time_point readAt) const noexcept;

@@ -1,5 +1,7 @@
 #include "volcomp/daemon/daemon.hpp"
 
+#include <sched.h>
+
 #include <spdlog/spdlog.h>
 #include <time.h>
 
@@ -72,6 +74,10 @@ void Daemon::start() {
       config_.cyclePeriodMs,
       config_.positionSemantics == loop::PositionSemantics::Actual ? "actual" : "commanded");
   for (const std::string& warning : startWarnings_) spdlog::warn("{}", warning);
+  if (const std::string advice = realtimeAdvice(scheduler_.period(), sched_getscheduler(0));
+      !advice.empty()) {
+    spdlog::warn("{}", advice);
+  }
   scheduler_.start();
 }
 

@@ -1,9 +1,25 @@
 #include "volcomp/daemon/scheduler.hpp"
 
+#include <sched.h>
+
 #include <algorithm>
+#include <sstream>
+#include <string>
 #include <utility>
 
 namespace volcomp::daemon {
+
+std::string realtimeAdvice(std::chrono::nanoseconds period, int policy) {
+  if (policy == SCHED_FIFO || policy == SCHED_RR || period >= std::chrono::milliseconds(5)) {
+    return {};
+  }
+  std::ostringstream text;
+  text << "cycle " << std::chrono::duration<double, std::milli>(period).count()
+       << " ms under the ordinary scheduler: expect missed deadlines (at 1 kHz about 3 x those of "
+          "an empty loop); for periods this short run volcompd with real-time scheduling on a "
+          "reserved core (the volcompd-realtime.conf drop-in, docs/daemon.md \"Pacing at 1 kHz\")";
+  return text.str();
+}
 
 NextDeadline nextDeadline(loop::Clock::time_point deadline, loop::Clock::time_point now,
                           std::chrono::nanoseconds period) noexcept {

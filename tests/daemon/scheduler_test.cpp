@@ -3,11 +3,13 @@
 #include "volcomp/daemon/scheduler.hpp"
 
 #include <gtest/gtest.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <asio/io_context.hpp>
 #include <asio/post.hpp>
 #include <chrono>
+#include <string>
 #include <vector>
 
 #include "simulated_clock.hpp"
@@ -210,6 +212,16 @@ TEST(PeriodicScheduler, RunNowRunsACycleAndCountsThePeriodFromIt) {
   EXPECT_EQ(starts[3] - starts[2], period);
   EXPECT_EQ(starts[4] - starts[3], period);
   EXPECT_EQ(scheduler.overruns(), 0u);
+}
+
+TEST(RealtimeAdvice, ShortPeriodsUnderTheOrdinarySchedulerAreWarnedAbout) {
+  const std::string advice = realtimeAdvice(1ms, SCHED_OTHER);
+  EXPECT_NE(advice.find("cycle 1 ms under the ordinary scheduler"), std::string::npos) << advice;
+  EXPECT_NE(advice.find("volcompd-realtime.conf"), std::string::npos) << advice;
+  EXPECT_FALSE(realtimeAdvice(std::chrono::microseconds(2500), SCHED_BATCH).empty());
+  EXPECT_TRUE(realtimeAdvice(1ms, SCHED_FIFO).empty());
+  EXPECT_TRUE(realtimeAdvice(1ms, SCHED_RR).empty());
+  EXPECT_TRUE(realtimeAdvice(5ms, SCHED_OTHER).empty()) << "the default 10 ms needs no advice";
 }
 
 }  // namespace

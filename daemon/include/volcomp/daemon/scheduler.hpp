@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <string>
 
 #include "volcomp/daemon/waitable_clock.hpp"
 
@@ -25,6 +26,13 @@ struct NextDeadline {
 /// while a cycle can still start within its period. Pure.
 NextDeadline nextDeadline(loop::Clock::time_point deadline, loop::Clock::time_point now,
                           std::chrono::nanoseconds period) noexcept;
+
+/// The warning for a cycle of `period` run under scheduling `policy` (sched_getscheduler()):
+/// below 5 ms the ordinary scheduler (SCHED_OTHER, SCHED_BATCH, SCHED_IDLE) wakes the loop and its
+/// peer too late too often (at 1 kHz on a shared 2-core machine: 2.7 x the missed deadlines of an
+/// empty loop, docs/performance.md); empty when the policy is a real-time one or the period is
+/// longer. Pure.
+std::string realtimeAdvice(std::chrono::nanoseconds period, int policy);
 
 class PeriodicScheduler {
  public:

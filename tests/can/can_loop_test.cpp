@@ -309,7 +309,9 @@ TEST(CanHostileNode, FaultsSafelyAndRecoversWhenThePeerBehaves) {
             << port.stats().malformedFrames << ", unknown " << port.stats().unknownFrames
             << ", error frames " << port.stats().errorFrames << ", bus-off events "
             << port.stats().busOffEvents << " (" << port.stats().busOffEndedByCarrier
-            << " ended by the carrier without a restart report); loop: active " << activeBefore
+            << " ended by the carrier without a restart report), receive-queue drops "
+            << port.stats().receiveQueueDrops << ", error-passive ended after drops "
+            << port.stats().errorPassiveEndedAfterDrops << "; loop: active " << activeBefore
             << " before, " << activeDuring << " during, " << activeAfter << " after, fault cycles "
             << faultCycles << std::endl;
   EXPECT_GT(sent, 1000u);

@@ -214,6 +214,61 @@ TEST_F(VcanDriver, ErrorPassiveIsAFaultButOffsetsCanStillBeWritten) {
   EXPECT_EQ(port->busState(), BusState::ErrorActive);
 }
 
+// The kernel reports the way back from error-passive once; a flooded receive queue can drop that
+// report. Frames dropped after the passive report, and complete input sets arriving after it for
+// the stale timeout with no new report, end the state.
+TEST_F(VcanDriver, ErrorPassiveWhoseEndWasDroppedEndsOnceCompleteSetsArriveAgain) {
+  auto port = makePort(test::testConfig("broadcast", 200.0));
+  const auto staleTimeout = port->layout().staleTimeout;
+  std::vector<std::uint8_t> details(8, 0);
+  details[1] = CAN_ERR_CRTL_TX_PASSIVE;
+  const auto reported = std::chrono::steady_clock::now();
+  ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_CRTL, details));
+  // Nothing drains the port's socket meanwhile: short frames on an input identifier (which its
+  // filter lets through) fill the queue, and the error-active report behind them is dropped.
+  for (int i = 0; i < 5000; ++i) peer.send(0x100, {0xFF, 0xFF});
+  details[1] = CAN_ERR_CRTL_ACTIVE;
+  ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_CRTL, details));
+  loop::AxisSample sample;
+  EXPECT_EQ(port->read(sample), Errc::ErrorPassive);
+  ASSERT_GT(port->stats().receiveQueueDrops, 0u);
+  EXPECT_EQ(port->busState(), BusState::ErrorPassive) << "the error-active report got through";
+  std::uint8_t sequence = 0;
+  ASSERT_TRUE(testutil::waitUntil(
+      [&] {
+        sendSet(++sequence);
+        return !port->read(sample);
+      },
+      std::chrono::duration_cast<std::chrono::milliseconds>(10 * staleTimeout)));
+  EXPECT_GE(std::chrono::steady_clock::now() - reported, staleTimeout);
+  EXPECT_EQ(port->busState(), BusState::ErrorActive);
+  EXPECT_EQ(port->stats().errorPassiveEndedAfterDrops, 1u);
+  EXPECT_EQ(sample.sequence, sequence);
+}
+
+// Nothing dropped: no report can have been lost, and a controller that stays error-passive stays
+// a fault however well its frames arrive.
+TEST_F(VcanDriver, ErrorPassiveWithNothingDroppedStaysAFaultWhileFramesFlow) {
+  auto port = makePort(test::testConfig("broadcast", 200.0));
+  const auto staleTimeout = port->layout().staleTimeout;
+  std::vector<std::uint8_t> details(8, 0);
+  details[1] = CAN_ERR_CRTL_RX_PASSIVE;
+  ASSERT_TRUE(peer.send(CAN_ERR_FLAG | CAN_ERR_CRTL, details));
+  loop::AxisSample sample;
+  ASSERT_TRUE(testutil::waitUntil([&] { return port->read(sample) == Errc::ErrorPassive; }));
+  std::uint8_t sequence = 0;
+  EXPECT_FALSE(testutil::waitUntil(
+      [&] {
+        sendSet(++sequence);
+        return port->read(sample) != Errc::ErrorPassive;
+      },
+      std::chrono::duration_cast<std::chrono::milliseconds>(3 * staleTimeout)));
+  EXPECT_EQ(port->busState(), BusState::ErrorPassive);
+  EXPECT_EQ(port->stats().receiveQueueDrops, 0u);
+  EXPECT_EQ(port->stats().errorPassiveEndedAfterDrops, 0u);
+  EXPECT_GT(port->stats().completeSets, 10u);
+}
+
 TEST_F(VcanDriver, InterfaceDownIsALinkErrorAndRecoveryWorks) {
   auto port = makePort(test::testConfig());
   sendSet(1);

@@ -1,10 +1,13 @@
 #include "volcomp/can/channel.hpp"
 
+#include <array>
 #include <cerrno>
 #include <cstring>
 
+#include <linux/sock_diag.h>
 #include <net/if.h>
 #include <sys/ioctl.h>
+#include <sys/socket.h>
 
 #include <asio/buffer.hpp>
 #include <asio/error.hpp>
@@ -77,6 +80,16 @@ bool Channel::carrierUp() noexcept {
   std::memcpy(request.ifr_name, interfaceName_, IFNAMSIZ);
   return ::ioctl(socket_.native_handle(), SIOCGIFFLAGS, &request) == 0 &&
          (request.ifr_flags & IFF_RUNNING) != 0;
+}
+
+std::uint32_t Channel::droppedFrames() noexcept {
+  if (!socket_.is_open()) return 0;
+  std::array<std::uint32_t, SK_MEMINFO_VARS> info{};
+  socklen_t size = sizeof info;
+  if (::getsockopt(socket_.native_handle(), SOL_SOCKET, SO_MEMINFO, info.data(), &size) != 0 ||
+      size < sizeof(std::uint32_t) * (SK_MEMINFO_DROPS + 1))
+    return 0;
+  return info[SK_MEMINFO_DROPS];
 }
 
 void Channel::close() noexcept {

@@ -64,6 +64,8 @@ std::error_code CanControllerPort::connect() noexcept {
   haveSet_ = false;
   linkLost_ = false;
   busState_ = BusState::ErrorActive;
+  socketDrops_ = 0;
+  dropsAfterDrain_ = stats_.receiveQueueDrops;
   if (auto ec = channel_.open(layout_.interfaceName, layout_.fd, filters_, kErrorClasses))
     return ec;
   connectTime_ = Clock::now();
@@ -80,9 +82,22 @@ bool CanControllerPort::connected() const noexcept {
   return channel_.isOpen() && !linkLost_;
 }
 
+void CanControllerPort::countDrops() noexcept {
+  const std::uint32_t drops = channel_.droppedFrames();
+  // The kernel's counter is 32 bits: the difference is right across its wrap.
+  stats_.receiveQueueDrops += static_cast<std::uint32_t>(drops - socketDrops_);
+  socketDrops_ = drops;
+}
+
+void CanControllerPort::drained() noexcept {
+  countDrops();
+  dropsAfterDrain_ = stats_.receiveQueueDrops;
+}
+
 void CanControllerPort::pump() noexcept {
   if (io_.stopped()) io_.restart();
   io_.poll();
+  drained();
 }
 
 std::error_code CanControllerPort::linkDown() noexcept {
@@ -91,10 +106,24 @@ std::error_code CanControllerPort::linkDown() noexcept {
 }
 
 std::error_code CanControllerPort::busError() noexcept {
-  if (busState_ == BusState::BusOff && Clock::now() - lastBusOffReport_ >= layout_.staleTimeout &&
-      channel_.carrierUp()) {
+  const Clock::time_point now = Clock::now();
+  const bool quiet = now - lastStateReport_ >= layout_.staleTimeout;
+  if (busState_ == BusState::BusOff && quiet && channel_.carrierUp()) {
     busState_ = BusState::ErrorActive;
     ++stats_.busOffEndedByCarrier;
+  }
+  if (busState_ == BusState::ErrorPassive && quiet) {
+    // The kernel reports the way back to error-active once, and a full receive queue may have
+    // dropped that report. Only then (frames were dropped after the passive report) do complete
+    // input sets since the report, fresh now, end the state: the controller is talking again.
+    // Without drops the report cannot have been lost, and a controller that stays passive keeps
+    // the fault however well the frames flow.
+    countDrops();
+    if (stats_.receiveQueueDrops != dropsAtStateReport_ && haveSet_ &&
+        setTime_ > lastStateReport_ && now - setTime_ <= layout_.staleTimeout) {
+      busState_ = BusState::ErrorActive;
+      ++stats_.errorPassiveEndedAfterDrops;
+    }
   }
   if (busState_ == BusState::BusOff) return Errc::BusOff;
   if (busState_ == BusState::ErrorPassive) return Errc::ErrorPassive;
@@ -108,6 +137,7 @@ std::error_code CanControllerPort::waitForSet(Clock::time_point deadline) noexce
     if (io_.stopped()) io_.restart();
     io_.run_one_until(deadline);
   }
+  drained();
   if (linkLost_) return linkDown();
   return stats_.completeSets != before ? std::error_code{} : std::error_code{Errc::NoResponse};
 }
@@ -116,7 +146,10 @@ std::error_code CanControllerPort::read(loop::AxisSample& out) noexcept {
   if (!channel_.isOpen()) return std::make_error_code(std::errc::not_connected);
   pump();
   if (linkLost_) return linkDown();
-  if (auto ec = busError()) return ec;
+  // Error-passive still sends: with the sync trigger the SYNC goes out, and its answer shows
+  // whether the controller talks again (see busError); broadcasts show it without asking.
+  if (auto ec = busError(); ec == Errc::BusOff || (ec && layout_.trigger != Trigger::Sync))
+    return ec;
 
   if (layout_.trigger == Trigger::Sync) {
     // Frames that arrived before this SYNC belong to an earlier cycle.
@@ -281,7 +314,7 @@ void CanControllerPort::onErrorFrame(std::uint32_t errorClass, const Frame& fram
   if ((errorClass & CAN_ERR_BUSOFF) != 0) {
     if (busState_ != BusState::BusOff) ++stats_.busOffEvents;
     busState_ = BusState::BusOff;
-    lastBusOffReport_ = Clock::now();
+    noteStateReport();
     return;
   }
   if ((errorClass & CAN_ERR_RESTARTED) != 0) busState_ = BusState::ErrorActive;
@@ -290,6 +323,7 @@ void CanControllerPort::onErrorFrame(std::uint32_t errorClass, const Frame& fram
     if ((state & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) != 0) {
       if (busState_ != BusState::ErrorPassive) ++stats_.errorPassiveEvents;
       busState_ = BusState::ErrorPassive;
+      noteStateReport();
     } else if ((state & CAN_ERR_CRTL_ACTIVE) != 0) {
       busState_ = BusState::ErrorActive;
     } else if ((state & (CAN_ERR_CRTL_RX_WARNING | CAN_ERR_CRTL_TX_WARNING)) != 0) {
@@ -297,6 +331,13 @@ void CanControllerPort::onErrorFrame(std::uint32_t errorClass, const Frame& fram
       busState_ = BusState::ErrorWarning;
     }
   }
+}
+
+void CanControllerPort::noteStateReport() noexcept {
+  lastStateReport_ = Clock::now();
+  // The queue was empty when the last drain ended: drops counted since then may have come after
+  // this report, those before cannot have.
+  dropsAtStateReport_ = dropsAfterDrain_;
 }
 
 void CanControllerPort::onMalformed() noexcept {

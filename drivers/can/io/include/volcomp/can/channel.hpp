@@ -67,6 +67,11 @@ class Channel {
   /// this is the bus-off state at the source, whatever error frames were lost on the way.
   bool carrierUp() noexcept;
 
+  /// Frames the kernel dropped because this socket's receive queue was full, counted since the
+  /// socket was opened (SO_MEMINFO, modulo 2^32); 0 when closed or unknown. Error frames are
+  /// among what a full queue drops, so a state report may be missing when this has grown.
+  std::uint32_t droppedFrames() noexcept;
+
   /// Sends one frame without blocking (see mapSocketError for the errors). `bitrateSwitch` sets
   /// BRS on CAN FD frames. noexcept and allocation-free.
   std::error_code send(const Frame& frame, bool bitrateSwitch = false) noexcept;

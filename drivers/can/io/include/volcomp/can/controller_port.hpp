@@ -21,7 +21,11 @@
 ///          ends when the interface has its carrier (the kernel's CAN drivers drop it at bus-off
 ///          and raise it at the restart) and no bus-off report has come for the stale timeout:
 ///          a restart report lost to a full receive queue (a flooded bus) does not leave the
-///          daemon refusing to write for ever.
+///          daemon refusing to write for ever. Error-passive ends likewise without its report
+///          when the kernel dropped frames after the passive report (so the report of the way
+///          back may be among them), no passive report has come for the stale timeout, and
+///          complete input sets have arrived since, the newest fresh: the controller talks
+///          again. With nothing dropped, a controller that stays passive stays a fault.
 ///          Frames too short for their signals, undecodable values (NaN float, outside the DBC
 ///          range), remote requests and bad sizes are ignored and counted.
 
@@ -53,9 +57,11 @@ struct CanStats {
   std::uint64_t busOffEvents = 0;
   std::uint64_t busOffEndedByCarrier = 0;  ///< bus-off left without a restart report (see above)
   std::uint64_t errorPassiveEvents = 0;
-  std::uint64_t completeSets = 0;     ///< complete, consistent input sets assembled
-  std::uint64_t discardedFrames = 0;  ///< input frames superseded by a newer sequence counter
-  std::uint64_t linkErrors = 0;       ///< link lost: interface down / gone, socket failed
+  std::uint64_t errorPassiveEndedAfterDrops = 0;  ///< left without its report (see above)
+  std::uint64_t receiveQueueDrops = 0;  ///< frames the kernel dropped from a full receive queue
+  std::uint64_t completeSets = 0;       ///< complete, consistent input sets assembled
+  std::uint64_t discardedFrames = 0;    ///< input frames superseded by a newer sequence counter
+  std::uint64_t linkErrors = 0;         ///< link lost: interface down / gone, socket failed
 };
 
 class CanControllerPort final : public loop::ControllerPort, private FrameReceiver {
@@ -97,6 +103,9 @@ class CanControllerPort final : public loop::ControllerPort, private FrameReceiv
   void onReceiveError(std::error_code ec) noexcept override;
 
   void pump() noexcept;
+  void countDrops() noexcept;
+  void drained() noexcept;
+  void noteStateReport() noexcept;
   void completeIfConsistent(std::size_t newest) noexcept;
   std::error_code linkDown() noexcept;
   std::error_code busError() noexcept;
@@ -115,7 +124,10 @@ class CanControllerPort final : public loop::ControllerPort, private FrameReceiv
   bool linkLost_ = false;
   std::chrono::steady_clock::time_point setTime_{};
   std::chrono::steady_clock::time_point connectTime_{};
-  std::chrono::steady_clock::time_point lastBusOffReport_{};
+  std::chrono::steady_clock::time_point lastStateReport_{};  ///< bus-off or error-passive
+  std::uint32_t socketDrops_ = 0;         ///< the open socket's own drop counter, last read
+  std::uint64_t dropsAfterDrain_ = 0;     ///< receiveQueueDrops when the last drain ended
+  std::uint64_t dropsAtStateReport_ = 0;  ///< dropsAfterDrain_ before the drain with that report
   BusState busState_ = BusState::ErrorActive;
   std::error_code lastLinkError_;
   CanStats stats_;

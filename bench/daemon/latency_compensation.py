@@ -8,7 +8,8 @@ docs/daemon.md "Latency compensation"), its steady part (outside the three cycle
 reversal), the total compensated residual and the limiter violations.
 
 Usage: bench/daemon/latency_compensation.py [--runs 5] [--duration 8] [--paths line,circle,...]
-  [--controller-latency-ms 0] [--period-ms 10] [--sim-cpu 0] [--daemon-cpu 1] [--json FILE]
+  [--controller-latency-ms 0] [--position-scan-ms 0] [--timestamp] [--period-ms 10]
+  [--sim-cpu 0] [--daemon-cpu 1] [--json FILE]
 (after ./scripts/build.sh; BUILD_DIR overrides ./build)."""
 
 import argparse
@@ -55,6 +56,10 @@ PATHS = {
 }
 
 
+# The controller's latch time: one register after the example map's heartbeat, 10 us ticks.
+TIMESTAMP = {"address": 22, "tick_us": 10}
+
+
 def load(name):
     with open(os.path.join(EXAMPLES, name)) as f:
         return json.load(f)
@@ -67,6 +72,9 @@ def run_once(work, path_name, latency_on, args, tag):
     sim["settle_ms"] = 500
     sim["limits"]["cycle_ms"] = args.period_ms
     sim["controller_latency_ms"] = args.controller_latency_ms
+    sim["position_scan_ms"] = args.position_scan_ms
+    if args.timestamp:
+        sim["transport"]["registers"]["timestamp"] = TIMESTAMP
     sim_file = os.path.join(work, tag + "-sim.json")
     with open(sim_file, "w") as f:
         json.dump(sim, f)
@@ -85,6 +93,8 @@ def run_once(work, path_name, latency_on, args, tag):
     daemon["cycle_period_ms"] = args.period_ms
     daemon["latency_compensation"] = {"enabled": latency_on,
                                       "controller_latency_ms": args.controller_latency_ms}
+    if args.timestamp:
+        daemon["transport"]["registers"]["timestamp"] = TIMESTAMP
     daemon_file = os.path.join(work, tag + "-volcompd.json")
     with open(daemon_file, "w") as f:
         json.dump(daemon, f)
@@ -117,6 +127,12 @@ def main():
                         help="the simulated controller's delay from receiving an offset to "
                         "applying it at the axes, and volcompd's latency_compensation."
                         "controller_latency_ms (told the truth)")
+    parser.add_argument("--position-scan-ms", type=float, default=0.0,
+                        help="the simulated controller latches the positions once per scan of "
+                        "this length and serves them until the next (0: fresh at every read)")
+    parser.add_argument("--timestamp", action="store_true",
+                        help="map a timestamp register (the latch time, 10 us ticks) in the "
+                        "simulator and in volcompd")
     parser.add_argument("--period-ms", type=float, default=10.0,
                         help="volcompd's cycle_period_ms (and the simulator's cycle_ms)")
     parser.add_argument("--sim-cpu", type=int, default=0)
@@ -130,7 +146,8 @@ def main():
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs; "
           f"simulator on CPU {args.sim_cpu}, volcompd on CPU {args.daemon_cpu}; "
           f"{args.runs} runs x {args.duration} s per path and mode; controller latency "
-          f"{args.controller_latency_ms:g} ms", flush=True)
+          f"{args.controller_latency_ms:g} ms; position scan {args.position_scan_ms:g} ms; "
+          f"timestamp register {'mapped' if args.timestamp else 'not mapped'}", flush=True)
     print(f"load average before: {open('/proc/loadavg').read().split()[:3]}", flush=True)
     results = {p: {"off": [], "on": []} for p in paths}
     with tempfile.TemporaryDirectory() as work:

@@ -16,6 +16,7 @@ using modbus::ModbusSettings;
 using modbus::RegisterMap;
 using modbus::RegisterTable;
 using modbus::RegisterType;
+using modbus::TimestampRegister;
 using modbus::ValueFormat;
 using modbus::ValueRegister;
 using modbus::WordOrder;
@@ -110,6 +111,17 @@ BitRegister parseBit(const JsonReader& r) {
   return b;
 }
 
+TimestampRegister parseTimestamp(const JsonReader& r) {
+  r.allowOnly({"address", "table", "tick_us"});
+  TimestampRegister t;
+  t.address = parseAddress(r.at("address"));
+  if (auto table = r.find("table")) t.table = parseTable(*table);
+  // 0.1 us .. 1 ms: a wrap (2^16 ticks) then spans 6.5 ms .. 65 s, and one tick resolves the
+  // positions' age far below a cycle.
+  t.tickUs = r.at("tick_us").number(0.1, 1000.0);
+  return t;
+}
+
 WordRegister parseWord(const JsonReader& r) {
   r.allowOnly({"address", "table"});
   WordRegister w;
@@ -148,6 +160,8 @@ std::vector<Field> collectFields(const RegisterMap& m) {
   }
   if (m.sequence)
     f.push_back({"sequence", FieldKind::Sequence, m.sequence->table, m.sequence->address, 1});
+  if (m.timestamp)
+    f.push_back({"timestamp", FieldKind::Sequence, m.timestamp->table, m.timestamp->address, 1});
   if (m.appliedOffset) {
     for (int i = 0; i < 3; ++i) {
       const auto& a = (*m.appliedOffset)[i];
@@ -280,7 +294,7 @@ RegisterMap parseModbusRegisterMap(const nlohmann::json& registers, const std::s
                                    const std::string& keyPath) {
   const JsonReader r(registers, file, keyPath);
   r.allowOnly({"fc23", "defaults", "position", "enable", "homed", "fault_ack", "sequence",
-               "applied_offset", "offset", "status", "heartbeat"});
+               "timestamp", "applied_offset", "offset", "status", "heartbeat"});
   const ValueDefaults d = parseDefaults(r);
   RegisterMap m;
   m.fc23 = r.booleanOr("fc23", false);
@@ -289,6 +303,7 @@ RegisterMap parseModbusRegisterMap(const nlohmann::json& registers, const std::s
   m.homed = parseBit(r.at("homed"));
   if (auto a = r.find("fault_ack")) m.faultAck = parseBit(*a);
   if (auto s = r.find("sequence")) m.sequence = parseWord(*s);
+  if (auto t = r.find("timestamp")) m.timestamp = parseTimestamp(*t);
   if (auto a = r.find("applied_offset")) m.appliedOffset = parseAxes(*a, d);
   m.offset = parseAxes(r.at("offset"), d);
   m.statusAddress = parseAddress(r.at("status"));
@@ -317,6 +332,7 @@ void validateServerMap(const RegisterMap& m, const std::string& file, const std:
   holding(m.homed.table, "homed");
   if (m.faultAck) holding(m.faultAck->table, "fault_ack");
   if (m.sequence) holding(m.sequence->table, "sequence");
+  if (m.timestamp) holding(m.timestamp->table, "timestamp");
   if (m.appliedOffset) {
     for (std::size_t k = 0; k < 3; ++k) {
       const std::string name = std::string("applied_offset.") + kAxisNames[k];

@@ -30,10 +30,15 @@ TEST(NoAllocation, CountingOperatorNewSeesAllocations) {
 TEST_F(LoopTest, NoAllocationPerCycleInAnyState) {
   port.autoSequence = true;
   settings.latencyCompensation = true;  // its estimator included
+  port.sample.hasTimestamp = true;      // and the controller clock's mapping
+  port.sample.timestampTickS = 10e-6;
   make();
   cycle();  // first connect and synchronisation outside the count is not needed, but harmless
   Counting c;
-  for (int i = 0; i < 200; ++i) cycle();  // active
+  for (int i = 0; i < 200; ++i) {  // active
+    port.sample.timestampTicks = static_cast<std::uint16_t>(port.sample.timestampTicks + 1000);
+    cycle();
+  }
   port.sample.enable = false;
   for (int i = 0; i < 50; ++i) cycle();  // disabled
   port.sample.enable = true;

@@ -319,6 +319,37 @@ TEST_F(LatencyLoopTest, TheMeasuredTransactionTimesLengthenTheHorizon) {
   EXPECT_NEAR(model->lastQ[0], port.sample.positionMm[0] + 1.0 / 0.012 * 0.008, 1e-6);
 }
 
+// The controller latches the positions every 4 ms (a PLC scan) and serves them until the next:
+// read every 10 ms, they are 0 or 2 ms old. Its timestamp (10 us ticks) gives them their age;
+// without it the loop takes them as sampled mid-read and evaluates up to 2 ms short.
+TEST_F(LatencyLoopTest, AControllerTimestampGivesTheLatchedPositionsTheirAge) {
+  const double x0 = port.sample.positionMm[0];
+  auto worstErrorMm = [&](bool stamped) {
+    make();
+    port.sample.positionMm[0] = x0;
+    port.sample.hasTimestamp = stamped;
+    port.sample.timestampTickS = 10e-6;
+    const auto start = clock.now();
+    double worst = 0.0;
+    for (int i = 1; i <= 40; ++i) {
+      clock.advance(settings.period);
+      const double tS = std::chrono::duration<double>(clock.now() - start).count();
+      const double latchS = std::floor(tS / 0.004 + 1e-9) * 0.004;
+      port.sample.positionMm[0] = x0 + 400.0 * latchS;
+      port.sample.timestampTicks =
+          static_cast<std::uint16_t>(std::llround((latchS + 3.0) / 10e-6) & 0xFFFF);
+      loop->step();
+      // Where the axis is when the offset acts: 2 ms controller latency + half the period on.
+      if (i > 10) worst = std::max(worst, std::abs(model->lastQ[0] - (x0 + 400.0 * (tS + 0.007))));
+    }
+    EXPECT_EQ(loop->state(), LoopState::Active);
+    return worst;
+  };
+  EXPECT_LT(worstErrorMm(true), 1e-6);
+  // Without: at least the 2 ms age (more: the ages' jitter reaches the velocity estimate too).
+  EXPECT_GT(worstErrorMm(false), 400.0 * 0.002 - 1e-6);
+}
+
 TEST_F(LatencyLoopTest, OffEvaluatesAtThePositionsRead) {
   settings.latencyCompensation = false;
   make();

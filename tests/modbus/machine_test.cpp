@@ -323,6 +323,34 @@ TEST(SimMachine, TheAxesFeelAWriteTheControllerLatencyAfterItArrives) {
   EXPECT_NEAR(r["rms_compensated_um"].get<double>(), std::sqrt(4.0 / 9.0), 1e-9);
 }
 
+// A controller that latches the positions once per 4 ms scan serves them until the next, stamped
+// with the latch time (10 us ticks, 16 bits wrapping).
+TEST(SimMachine, AScanLatchesThePositionsAndTheTimestampSaysWhen) {
+  MachineOptions opt;
+  opt.positionScanS = 0.004;
+  opt.timestampTickS = 10e-6;
+  Machine m(Path::polyline({{0, 0, 0}, {1000, 0, 0}}, 6000.0), ErrorFunction{}, opt);  // 100 mm/s
+  m.sample(0.0);
+  const loop::AxisSample a = m.inputs(0.0110);
+  EXPECT_NEAR(a.positionMm[0], 0.8, 1e-9) << "latched at 8 ms";
+  EXPECT_TRUE(a.hasTimestamp);
+  EXPECT_EQ(a.timestampTicks, 800);
+  EXPECT_DOUBLE_EQ(a.timestampTickS, 10e-6);
+  const loop::AxisSample b = m.inputs(0.0119);
+  EXPECT_EQ(b.positionMm[0], a.positionMm[0]) << "the same scan";
+  EXPECT_EQ(b.timestampTicks, a.timestampTicks);
+  const loop::AxisSample c = m.inputs(0.6600);
+  EXPECT_NEAR(c.positionMm[0], 66.0, 1e-9);
+  EXPECT_EQ(c.timestampTicks, 66000 - 65536) << "wrapped";
+  // Without a scan: the positions at the read, stamped then; without a tick: no timestamp.
+  Machine fresh(Path::polyline({{0, 0, 0}, {1000, 0, 0}}, 6000.0), ErrorFunction{},
+                MachineOptions{});
+  fresh.sample(0.0);
+  const loop::AxisSample d = fresh.inputs(0.0110);
+  EXPECT_NEAR(d.positionMm[0], 1.1, 1e-9);
+  EXPECT_FALSE(d.hasTimestamp);
+}
+
 TEST(SimMachine, HeartbeatWatchdogRampsTheOffsetsAway) {
   MachineOptions opt;
   opt.heartbeatTimeoutS = 0.1;

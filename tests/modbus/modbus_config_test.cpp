@@ -127,6 +127,46 @@ TEST(ModbusConfig, FaultAckBitSharesTheFlagRegisterOnItsOwnBit) {
   expectRejected(s, "transport.registers.fault_ack.bit", "homed and fault_ack use the same bit");
 }
 
+// The timestamp register: when the controller latched the positions, uint16 ticks of tick_us,
+// read with the other inputs into the sample (tick in seconds) and written by the simulator.
+TEST(ModbusConfig, TimestampRegisterIsReadWithTheInputs) {
+  json s = base();
+  s["registers"]["timestamp"] = {{"address", 22}, {"tick_us", 10}};
+  const modbus::ModbusSettings c = parseModbusSettings(s, "plant.json", "transport");
+  ASSERT_TRUE(c.registers.timestamp.has_value());
+  EXPECT_EQ(c.registers.timestamp->address, 22);
+  EXPECT_EQ(c.registers.timestamp->table, RegisterTable::Holding);
+  EXPECT_DOUBLE_EQ(c.registers.timestamp->tickUs, 10.0);
+  // One FC03 still: the inputs now span 0..22.
+  const modbus::RegisterPlan plan = modbus::planRegisters(c.registers);
+  EXPECT_EQ(plan.holdingRead.start, 0);
+  EXPECT_EQ(plan.holdingRead.count, 23);
+  std::array<std::uint16_t, 32> holding{};
+  std::array<std::uint16_t, 1> input{};
+  loop::AxisSample in;
+  in.timestampTicks = 54321;
+  ASSERT_FALSE(modbus::encodeInputs(c.registers, in, modbus::TableView{holding, 0},
+                                    modbus::TableView{input, 0}));
+  EXPECT_EQ(holding[22], 54321);
+  loop::AxisSample out;
+  ASSERT_FALSE(modbus::decodeInputs(c.registers, modbus::ConstTableView{holding, 0},
+                                    modbus::ConstTableView{input, 0}, out));
+  EXPECT_TRUE(out.hasTimestamp);
+  EXPECT_EQ(out.timestampTicks, 54321);
+  EXPECT_DOUBLE_EQ(out.timestampTickS, 10e-6);
+  ASSERT_FALSE(modbus::decodeInputs(parseModbusSettings(base(), "p.json", "t").registers,
+                                    modbus::ConstTableView{holding, 0},
+                                    modbus::ConstTableView{input, 0}, out));
+  EXPECT_FALSE(out.hasTimestamp);
+
+  s["registers"]["timestamp"]["tick_us"] = 0;
+  expectRejected(s, "transport.registers.timestamp.tick_us", "0.1");
+  s["registers"]["timestamp"].erase("tick_us");
+  expectRejected(s, "transport.registers.timestamp.tick_us", "");
+  s["registers"]["timestamp"] = {{"address", 7}, {"tick_us", 1}};  // the sequence register
+  expectRejected(s, "transport.registers.timestamp", "overlaps sequence");
+}
+
 TEST(ModbusConfig, RejectsUnknownKeysAndBadValues) {
   json s = base();
   s["registers"]["offsets"] = s["registers"]["offset"];

@@ -81,6 +81,19 @@ TEST(SimConfig, PathKindsAndRejections) {
 
 // The simulator reads a CAN section with the daemon's rules too: an incomplete one is rejected at
 // its key path (tests/can/sim_can_config_test.cpp loads the complete example).
+TEST(SimConfig, PositionScanAndTheTimestampTickFromTheRegisterMap) {
+  json doc = example("sim-vmc.json");
+  EXPECT_EQ(parseSimConfig(doc, "sim.json").machine.positionScanS, 0.0);
+  EXPECT_EQ(parseSimConfig(doc, "sim.json").machine.timestampTickS, 0.0);
+  doc["position_scan_ms"] = 4;
+  doc["transport"]["registers"]["timestamp"] = {{"address", 22}, {"tick_us", 10}};
+  const SimConfig c = parseSimConfig(doc, "sim.json");
+  EXPECT_DOUBLE_EQ(c.machine.positionScanS, 0.004);
+  EXPECT_DOUBLE_EQ(c.machine.timestampTickS, 10e-6);
+  doc["position_scan_ms"] = -1;
+  expectRejected(doc, "position_scan_ms", "");
+}
+
 TEST(SimConfig, CanTransportIsReadWithTheDaemonsRules) {
   json doc = example("sim-vmc.json");
   doc["transport"] = {{"type", "can"}, {"interface", "vcan0"}};

@@ -115,6 +115,7 @@ bool CompensationLoop::tryConnect(time_point now, CycleReport& report) noexcept 
     reconnectedUntil_ = now + settings_.noticeHold;
   }
   everConnected_ = true;
+  controllerClock_.reset();
   backoff_ = std::chrono::nanoseconds(0);
   state_ = LoopState::Starting;
   synced_ = false;
@@ -291,8 +292,12 @@ HoldPrediction CompensationLoop::latencyCompensated(const std::array<double, 3>&
   // The write leaves about now; it is applied half its transaction later.
   const auto horizon = (clock_.now() - sampledAt_) + lastWriteDuration_ / 2 +
                        settings_.controllerLatency + settings_.period / 2;
+  // A latch older than the read (a timestamp says so) is measured, not guessed: the cap grows by
+  // that age, up to two periods.
+  const auto latchAge = std::clamp<std::chrono::nanoseconds>(
+      readMidAt_ - sampledAt_, std::chrono::nanoseconds(0), 2 * settings_.period);
   HoldPrediction hold = predictHold(estimator_, qMm, directions, horizon, settings_.period,
-                                    settings_.controllerLatency + 2 * settings_.period,
+                                    settings_.controllerLatency + 2 * settings_.period + latchAge,
                                     settings_.directionHysteresisMm);
   if (hold.extrapolated > 0) ++counters_.extrapolatedCycles;
   if (hold.turns > 0) ++counters_.turnCycles;
@@ -365,7 +370,7 @@ CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFai
   } else {
     std::array<double, 3> q{};
     // Registers whose life counter did not move hold the previous sample's positions.
-    const bool newData = !sample_.hasSequence || sample_.sequence != lastSequence_;
+    const bool newData = (!sample_.hasSequence || sample_.sequence != lastSequence_) && !sameLatch_;
     d.fault = checkInputs(now, q, d.outOfTravel);
     if (d.fault == FaultCode::None) {
       if (!sample_.enable || !sample_.homed) {
@@ -552,8 +557,18 @@ CycleReport CompensationLoop::step() noexcept {
     if (attempt > 0) ++counters_.lateReads;
     report.error.clear();
     const std::error_code readError = port_.read(sample_);
-    // The controller answered somewhere inside the transaction: its middle is the best guess.
-    sampledAt_ = readAt + (clock_.now() - readAt) / 2;
+    // The controller answered somewhere inside the transaction: its middle is the best guess,
+    // unless the controller says when it latched the positions.
+    const time_point replyAt = clock_.now();
+    readMidAt_ = readAt + (replyAt - readAt) / 2;
+    sampledAt_ = readMidAt_;
+    sameLatch_ = false;
+    if (!readError && sample_.hasTimestamp) {
+      const std::uint64_t before = controllerClock_.stamps();
+      sampledAt_ = controllerClock_.latchedAt(sample_.timestampTicks, sample_.timestampTickS,
+                                              replyAt, 2 * settings_.period);
+      sameLatch_ = controllerClock_.stamps() == before;
+    }
     if (readError) {
       report.error = readError;
       if (isLinkError(readError)) {

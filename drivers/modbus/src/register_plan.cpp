@@ -59,6 +59,7 @@ RegisterPlan planRegisters(const RegisterMap& m) noexcept {
   addInput(m.homed.table, m.homed.address, 1);
   if (m.faultAck) addInput(m.faultAck->table, m.faultAck->address, 1);
   if (m.sequence) addInput(m.sequence->table, m.sequence->address, 1);
+  if (m.timestamp) addInput(m.timestamp->table, m.timestamp->address, 1);
   if (m.appliedOffset) {
     for (const auto& a : *m.appliedOffset) {
       addInput(a.table, a.address, registerWidth(a.format.type));
@@ -88,6 +89,11 @@ std::error_code decodeInputs(const RegisterMap& m, ConstTableView holding, Const
   out.hasSequence = m.sequence.has_value();
   if (m.sequence)
     out.sequence = at(pick(m.sequence->table, holding, input), m.sequence->address, 1)[0];
+  out.hasTimestamp = m.timestamp.has_value();
+  if (m.timestamp) {
+    out.timestampTicks = at(pick(m.timestamp->table, holding, input), m.timestamp->address, 1)[0];
+    out.timestampTickS = m.timestamp->tickUs * 1e-6;
+  }
   out.hasAppliedOffsets = m.appliedOffset.has_value();
   if (m.appliedOffset) {
     for (std::size_t i = 0; i < 3; ++i) {
@@ -130,6 +136,10 @@ std::error_code encodeInputs(const RegisterMap& m, const loop::AxisSample& sampl
   if (m.faultAck) setBit(*m.faultAck, sample.faultAck);
   if (m.sequence)
     at(pick(m.sequence->table, holding, input), m.sequence->address, 1)[0] = sample.sequence;
+  if (m.timestamp) {
+    at(pick(m.timestamp->table, holding, input), m.timestamp->address, 1)[0] =
+        sample.timestampTicks;
+  }
   if (m.appliedOffset) {
     for (std::size_t i = 0; i < 3; ++i) put((*m.appliedOffset)[i], sample.appliedOffsetMm[i]);
   }
@@ -195,6 +205,9 @@ FieldReadings describeInputs(const RegisterMap& m, ConstTableView holding,
   addWord(out, "homed", m.homed.table, m.homed.address, m.homed.bit, holding, input);
   if (m.sequence) {
     addWord(out, "sequence", m.sequence->table, m.sequence->address, -1, holding, input);
+  }
+  if (m.timestamp) {
+    addWord(out, "timestamp", m.timestamp->table, m.timestamp->address, -1, holding, input);
   }
   if (m.appliedOffset) {
     for (std::size_t i = 0; i < 3; ++i)

@@ -117,10 +117,24 @@ loop::AxisSample Machine::inputs(double tS) {
   }
   loop::AxisSample s;
   const Vec3 atAxes = atAxesLocked(tS);
+  // A scan latches the positions: those of the last scan boundary (the path that far back,
+  // unless a feed hold stopped it meanwhile).
+  double latchS = tS;
+  Vec3 programmed = programmed_;
+  if (options_.positionScanS > 0.0) {
+    latchS = std::floor(tS / options_.positionScanS) * options_.positionScanS;
+    if (!activeAt(holdUntil_, tS)) programmed = path_.at(std::max(0.0, pathTimeS_ - (tS - latchS)));
+  }
   for (std::size_t k = 0; k < 3; ++k) {
     s.positionMm[k] = options_.semantics == loop::PositionSemantics::Actual
-                          ? programmed_[k] + atAxes[k]
-                          : programmed_[k];
+                          ? programmed[k] + atAxes[k]
+                          : programmed[k];
+  }
+  if (options_.timestampTickS > 0.0) {
+    s.hasTimestamp = true;
+    s.timestampTickS = options_.timestampTickS;
+    s.timestampTicks = static_cast<std::uint16_t>(
+        static_cast<std::uint64_t>(std::llround(latchS / options_.timestampTickS)) & 0xFFFFU);
   }
   s.enable = enable_;
   s.homed = homed_;

@@ -61,7 +61,8 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
   const JsonReader root(document, file);
   root.allowOnly({"model", "position_semantics", "path", "limits", "heartbeat_timeout_ms",
                   "watchdog_ramp_mm_s", "initial_offset_mm", "settle_ms", "tick_ms",
-                  "can_broadcast_ms", "controller_latency_ms", "transport", "comment"});
+                  "can_broadcast_ms", "controller_latency_ms", "position_scan_ms", "transport",
+                  "comment"});
   SimConfig c;
   c.file = file;
   if (auto m = root.find("model")) c.modelPath = resolve(file, m->string());
@@ -89,6 +90,8 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
   if (auto v = root.find("controller_latency_ms")) {
     c.machine.axisLatencyS = v->number(0.0, 100.0) / 1000.0;
   }
+  if (auto v = root.find("position_scan_ms"))
+    c.machine.positionScanS = v->number(0.0, 100.0) / 1000.0;
   c.transport = config::parseTransportSettings(root.at("transport").json(), file, "transport");
   if (const auto* layout = std::get_if<can::CanLayout>(&c.transport)) {
     if (auto v = root.find("can_broadcast_ms")) c.canBroadcastS = v->number(0.1, 1000.0) / 1000.0;
@@ -97,8 +100,9 @@ SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file
     if (root.find("can_broadcast_ms")) {
       throw config::ConfigError(file, "can_broadcast_ms", "applies to a CAN transport only");
     }
-    c.machine.limits.quantumMm =
-        offsetQuantumMm(std::get<modbus::ModbusSettings>(c.transport).registers);
+    const auto& registers = std::get<modbus::ModbusSettings>(c.transport).registers;
+    c.machine.limits.quantumMm = offsetQuantumMm(registers);
+    if (registers.timestamp) c.machine.timestampTickS = registers.timestamp->tickUs * 1e-6;
   }
   return c;
 }

@@ -21,6 +21,8 @@
 ///       "enable":         {"address": 12, "bit": 0, "table": "holding"},
 ///       "homed":          {"address": 12, "bit": 1},
 ///       "sequence":       {"address": 13, "table": "holding"},      optional (PLC life counter)
+///       "timestamp":      {"address": 14, "tick_us": 10},           optional (when the PLC
+///                         latched the positions: uint16 ticks of tick_us, wrapping)
 ///       "applied_offset": {"X": VALUE, "Y": VALUE, "Z": VALUE},     optional read-back
 ///       "offset":         {"X": VALUE, "Y": VALUE, "Z": VALUE},     outputs (holding)
 ///       "status": 106, "heartbeat": 107                             outputs (holding, uint16)

@@ -43,6 +43,7 @@
 #include <system_error>
 
 #include "volcomp/loop/compensation_model.hpp"
+#include "volcomp/loop/controller_clock.hpp"
 #include "volcomp/loop/direction_tracker.hpp"
 #include "volcomp/loop/latency_compensation.hpp"
 #include "volcomp/loop/limiter.hpp"
@@ -228,7 +229,10 @@ class CompensationLoop {
   /// Latency compensation: the velocity estimate, when the controller sampled this cycle's
   /// positions (mid-read) and how long the last acknowledged write took.
   VelocityEstimator estimator_;
-  time_point sampledAt_{};
+  ControllerClock controllerClock_;
+  time_point sampledAt_{};  ///< when the controller latched sample_ (mid-read without a timestamp)
+  time_point readMidAt_{};  ///< the middle of the read transaction that brought sample_
+  bool sameLatch_ = false;  ///< sample_'s timestamp is the previous sample's: nothing new latched
   std::chrono::nanoseconds lastWriteDuration_{0};
 
   /// Writes with an unknown outcome since the last acknowledged one: the controller applies a

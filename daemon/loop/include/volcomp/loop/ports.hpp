@@ -27,6 +27,12 @@ struct AxisSample {
   /// clears a latched fault.
   bool hasFaultAck = false;
   bool faultAck = false;
+  /// The controller's clock when it latched these positions, when the installation maps one: a
+  /// 16-bit counter of `timestampTickS` seconds, wrapping (controller_clock.hpp). Latency
+  /// compensation then knows the positions' age instead of taking the middle of the read.
+  bool hasTimestamp = false;
+  std::uint16_t timestampTicks = 0;
+  double timestampTickS = 0.0;
 };
 
 /// Everything written in one transaction.

@@ -80,6 +80,15 @@ struct WordRegister {
   bool operator==(const WordRegister&) const = default;
 };
 
+/// The controller's clock when it latched the positions: one 16-bit register counting ticks of
+/// `tickUs` microseconds, wrapping at 2^16 (loop::ControllerClock unwraps it).
+struct TimestampRegister {
+  RegisterTable table = RegisterTable::Holding;
+  std::uint16_t address = 0;
+  double tickUs = 1.0;
+  bool operator==(const TimestampRegister&) const = default;
+};
+
 /// Where an installation keeps the loop's inputs and outputs. Addresses are 0-based protocol
 /// addresses. The layout rules that make one read per table and one write possible are checked
 /// where a map is read from a file (config::validateModbusRegisterMap).
@@ -90,6 +99,8 @@ struct RegisterMap {
   /// Fault acknowledge (input), when mapped: a rising edge clears a latched fault.
   std::optional<BitRegister> faultAck;
   std::optional<WordRegister> sequence;  ///< controller life counter (input)
+  /// When the controller latched the positions (input), when mapped.
+  std::optional<TimestampRegister> timestamp;
   /// Offsets the controller currently applies (inputs), when mapped.
   std::optional<std::array<ValueRegister, 3>> appliedOffset;
   std::array<ValueRegister, 3> offset{};  ///< compensation offsets X, Y, Z (holding outputs)

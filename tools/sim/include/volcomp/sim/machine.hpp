@@ -78,6 +78,12 @@ struct MachineOptions {
   /// scan, its interpolation cycle), s. The registers, the read-back and the rate check see a
   /// write when it arrives; the axes (the error statistics, actual positions) this much later.
   double axisLatencyS = 0.0;
+  /// The controller latches the positions once per scan of this length (s) and serves them
+  /// until the next scan; 0 = the positions at the moment of each read.
+  double positionScanS = 0.0;
+  /// Stamp every sample with the time its positions were latched, in ticks of this length (s),
+  /// 16 bits wrapping (a mapped timestamp register); 0 = no timestamp.
+  double timestampTickS = 0.0;
   bool enable = true;
   bool homed = true;
   /// Keep every WriteRecord for writes() (for --record); otherwise only counters grow.

@@ -20,6 +20,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <variant>
 
 #include "commissioning.hpp"
 #include "environment_check.hpp"
@@ -89,11 +90,17 @@ int run(const std::string& configPath, bool checkOnly, bool verbose) {
     spdlog::info("{}: configuration, model '{}' and {} transport are valid; {}", configPath,
                  loaded.model->name(), volcomp::config::transportType(loaded.config.transport),
                  environment);
+    const auto* modbusSettings =
+        std::get_if<volcomp::modbus::ModbusSettings>(&loaded.config.transport);
+    const bool stamped = modbusSettings && modbusSettings->registers.timestamp;
     if (loaded.config.latencyCompensation) {
-      spdlog::info("latency compensation on: controller latency {} ms",
-                   loaded.config.controllerLatencyMs);
+      spdlog::info("latency compensation on: controller latency {} ms; positions sampled {}",
+                   loaded.config.controllerLatencyMs,
+                   stamped ? "when the timestamp register says"
+                           : "at the middle of each read (no timestamp register)");
     } else {
-      spdlog::info("latency compensation off");
+      spdlog::info("latency compensation off{}",
+                   stamped ? " (the timestamp register is read but not used)" : "");
     }
     return 0;
   }

@@ -79,6 +79,33 @@ TEST_F(VolcompdProcess, CheckConfigAcceptsAGoodFile) {
   EXPECT_NE(child.output().find("valid"), std::string::npos) << child.output();
 }
 
+// What --check-config says about latency compensation: where the sample time comes from.
+TEST_F(VolcompdProcess, CheckConfigSaysWhereTheSampleTimeComesFrom) {
+  config_["latency_compensation"] = {{"enabled", true}, {"controller_latency_ms", 2}};
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess plain = run({"--check-config"});
+  EXPECT_EQ(plain.waitExit(20s), 0) << plain.output();
+  EXPECT_NE(plain.output().find("latency compensation on: controller latency 2 ms; positions "
+                                "sampled at the middle of each read (no timestamp register)"),
+            std::string::npos)
+      << plain.output();
+  config_["transport"]["registers"]["timestamp"] = {{"address", 16}, {"tick_us", 10}};
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess stamped = run({"--check-config"});
+  EXPECT_EQ(stamped.waitExit(20s), 0) << stamped.output();
+  EXPECT_NE(stamped.output().find("positions sampled when the timestamp register says"),
+            std::string::npos)
+      << stamped.output();
+  config_["latency_compensation"]["enabled"] = false;
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess unused = run({"--check-config"});
+  EXPECT_EQ(unused.waitExit(20s), 0) << unused.output();
+  EXPECT_NE(unused.output().find(
+                "latency compensation off (the timestamp register is read but not used)"),
+            std::string::npos)
+      << unused.output();
+}
+
 TEST_F(VolcompdProcess, BadFileExitsWithStatus2NamingTheKeyPath) {
   config_["limiter"]["max_rate_mm_s"] = "fast";
   dir_.write("volcompd.json", config_.dump());

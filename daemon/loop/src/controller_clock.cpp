@@ -34,8 +34,9 @@ ControllerClock::time_point ControllerClock::map(std::uint16_t ticks, double tic
   const double wrapS = kWrapTicks * tickS;
   // A new tick size (a reload of the map) or time running backwards: start anew.
   if (have_ && (tickS != lastTickS_ || elapsedS < 0.0)) reset();
-  if (!have_) ++stamps_;
-  if (have_) {
+  if (!have_) {
+    ++stamps_;
+  } else {
     const auto step = static_cast<std::uint16_t>(ticks - lastTicks_);
     // Whole wraps between the two samples: those that bring the step nearest the elapsed time.
     const double wraps = std::max(0.0, std::round((elapsedS - step * tickS) / wrapS));

@@ -5,6 +5,8 @@
 // (the simulator's record of every write that reached it is checked), report the fault, and
 // compensate again once the peer behaves.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <string>
@@ -33,9 +35,11 @@ class Hostile : public ProcessTest {
   static constexpr double kPeriodS = 0.010;  // cycle_period_ms of volcompd-modbus-tcp.json
   static constexpr double kWatchdogS = 0.5;  // heartbeat_timeout_ms of sim-vmc.json
 
-  /// The simulator (with the daemon's limits) and a peer in front of it in `mode`.
-  void startPeer(Mode mode) {
+  /// The simulator (with the daemon's limits, applying `initialOffsetMm` on every axis at start)
+  /// and a peer in front of it in `mode`.
+  void startPeer(Mode mode, double initialOffsetMm = 0.0) {
     json sim = simConfig(exampleFile("vmc-xyfz-21.json"), 0);
+    sim["initial_offset_mm"] = {initialOffsetMm, initialOffsetMm, initialOffsetMm};
     sim["limits"]["max_offset_mm"] = kMaxOffsetMm;
     sim["limits"]["max_rate_mm_s"] = kMaxRateMmS;
     const Listening at = startSim(sim, {"--port", "0"});
@@ -118,6 +122,32 @@ TEST_F(Hostile, EveryWayOfAnsweringWronglyFaultsSafelyAndRecovers) {
   std::size_t faults = 0;
   for (const WriteRow& row : rows) faults += (row.status & kFault) != 0 ? 1 : 0;
   EXPECT_GT(faults, 0U) << "the faults were reported to the controller";
+}
+
+// Writes held up on their way (every other one 8 ms, a congested gateway) while the offsets ramp
+// at max_rate from -0.09 mm left over to the model's few micrometres (about 20 cycles): the held
+// write reaches the simulator about 2 ms before the next one, sent on time. The step after it
+// must be limited by the time since its reply, not since it was sent, or the controller applies
+// two steps within a few milliseconds (the simulator's check counts the time between the writes
+// it applied, with 5 ms of tolerance).
+TEST_F(Hostile, WritesHeldUpOnTheirWayAreNotBunchedWithTheNext) {
+  startPeer(Mode::HeldUp, -0.09);
+  ASSERT_TRUE(waitForActive(1)) << daemonLog();
+  ASSERT_TRUE(waitForSim(
+      [](const json& s) {
+        double largest = 0.0;
+        for (double o : s["applied_offset_mm"]) largest = std::max(largest, std::abs(o));
+        return largest < 0.02;
+      },
+      20s))
+      << daemonLog();
+  const json report = finishSim();
+  stopDaemon();
+  ASSERT_TRUE(report.is_object());
+  EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
+  const std::vector<WriteRow> rows = record();
+  ASSERT_GT(rows.size(), 20U);
+  expectWritesWithinLimits(rows, kMaxOffsetMm, kMaxRateMmS, kPeriodS, kWatchdogS);
 }
 
 // A server that accepts the connection and never answers, from the start: the daemon keeps

@@ -16,6 +16,8 @@
 //   Exception           an exception reply, the code cycling through 0..255 (every code of the
 //                       standard, 1..11, and every one outside it)
 //   Silent              nothing: requests are swallowed, never passed on, never answered
+//   HeldUp              every other write held 8 ms on its way to the simulator (a congested
+//                       gateway or network queue), then passed on and answered as it is
 //
 // The peer listens on a port of its own choosing on 127.0.0.1, accepts one connection at a time
 // (a new one replaces the old, as after the daemon's reconnect) and opens one to the simulator for
@@ -54,6 +56,7 @@ class HostileModbusPeer {
     RandomBytes,
     Exception,
     Silent,
+    HeldUp,
   };
 
   static const char* name(Mode mode) {
@@ -78,6 +81,8 @@ class HostileModbusPeer {
         return "exception replies";
       case Mode::Silent:
         return "silent";
+      case Mode::HeldUp:
+        return "writes held up";
     }
     return "?";
   }
@@ -187,6 +192,10 @@ class HostileModbusPeer {
   void handle(const std::vector<std::uint8_t>& request) {
     const Mode mode = mode_;
     if (mode == Mode::Silent) return;
+    if (mode == Mode::HeldUp && isWrite(request) && (writes_++ % 2) == 0) {
+      pollfd none{};
+      ::poll(&none, 0, kHoldMs);  // the delay is the fault being injected
+    }
     std::vector<std::uint8_t> reply;
     if (!forward(request, reply)) {
       closeSession();
@@ -194,6 +203,11 @@ class HostileModbusPeer {
     }
     corrupt(mode, request, reply);
     sendAll(reply);
+  }
+
+  static bool isWrite(const std::vector<std::uint8_t>& request) {
+    const std::uint8_t function = request.size() > 7 ? request[7] : 0;
+    return function == 0x06 || function == 0x10 || function == 0x17;
   }
 
   /// Passes the request to the simulator and reads its reply frame.
@@ -224,6 +238,7 @@ class HostileModbusPeer {
     switch (mode) {
       case Mode::PassThrough:
       case Mode::Silent:
+      case Mode::HeldUp:
         return;
       case Mode::WrongTransactionId:
         reply[0] ^= 0x5A;
@@ -287,6 +302,8 @@ class HostileModbusPeer {
     return true;
   }
 
+  static constexpr int kHoldMs = 8;
+
   int simulatorPort_;
   int port_ = 0;
   int listen_ = -1;
@@ -298,6 +315,7 @@ class HostileModbusPeer {
   std::atomic<Mode> mode_;
   std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> requests_{0};
+  std::uint64_t writes_ = 0;
   std::atomic<std::uint64_t> connections_{0};
   unsigned exceptionCode_ = 0;
   std::thread thread_;

@@ -65,6 +65,7 @@ class FakePort final : public ControllerPort {
 
   std::error_code write(const OffsetCommand& command) noexcept override {
     ++writeCalls;
+    if (duringWrite) duringWrite();
     if (!connected_) return std::make_error_code(std::errc::not_connected);
     if (applyFailedWrites && !holdApplied) applied = command.offsetMm;  // applied, answer lost
     if (writeError) return writeError;
@@ -87,6 +88,8 @@ class FakePort final : public ControllerPort {
   bool applyFailedWrites = false;
   /// Runs inside read() after the sample is taken (e.g. advance the clock: a stopped process).
   std::function<void()> afterRead;
+  /// Runs inside write() before it returns (e.g. advance the clock: the transaction's time).
+  std::function<void()> duringWrite;
   std::uint16_t sequence = 0;
   std::array<double, 3> applied{};
   std::error_code connectError;

@@ -116,6 +116,83 @@ TEST_F(TimingFaults, LateCycleThenOnTimeCycleDoesNotBunchSteps) {
   EXPECT_NEAR(port.last.offsetMm[2], 3 * kStep + 0.002, kEps);
 }
 
+// A write held up on its way to the controller (7.8 ms where every transaction takes 0.2 ms) may
+// be applied just before the next one, sent on time: the next step is limited to max_rate x the
+// time since its reply plus the undelayed round trip (2.4 ms), not since it was sent (10 ms). The
+// step after that is a full one again.
+TEST_F(TimingFaults, AWriteHeldUpOnItsWayShortensTheNextStep) {
+  model->setOffset({0.0, 0.0, 0.3});
+  make();
+  std::chrono::nanoseconds writeTime = 200us;
+  port.afterRead = [&] { clock.advance(200us); };
+  port.duringWrite = [&] { clock.advance(writeTime); };
+  cycle();
+  for (int i = 0; i < 3; ++i) cycleAfter(10ms - 400us);  // writes sent 10 ms apart
+  ASSERT_NEAR(port.last.offsetMm[2], 4 * kStep, kEps);
+  writeTime = 7800us;
+  cycleAfter(10ms - 400us);
+  ASSERT_NEAR(port.last.offsetMm[2], 5 * kStep, kEps);
+  writeTime = 200us;
+  cycleAfter(10ms - 200us - 7800us);  // sent 10 ms after the held one, 2.2 ms after its reply
+  EXPECT_NEAR(port.last.offsetMm[2], 5 * kStep + 0.0024, kEps);
+  cycleAfter(10ms - 400us);
+  EXPECT_NEAR(port.last.offsetMm[2], 6 * kStep + 0.0024, kEps);
+}
+
+// A controller that is slow on every transaction (4 ms) loses nothing: a steady round trip is not
+// a delay.
+TEST_F(TimingFaults, AUniformlySlowControllerKeepsTheFullStep) {
+  model->setOffset({0.0, 0.0, 0.3});
+  make();
+  port.afterRead = [&] { clock.advance(4ms); };
+  port.duringWrite = [&] { clock.advance(4ms); };
+  cycle();
+  for (int i = 0; i < 5; ++i) cycleAfter(2ms);  // writes sent 10 ms apart
+  EXPECT_NEAR(port.last.offsetMm[2], 6 * kStep, kEps);
+}
+
+// The smallest round trip is that of the last 128 transactions: after the route to the controller
+// became slower (every transaction 4 ms instead of none) the steps are short until the fast ones
+// have left the window (64 cycles of a read and a write), then full again.
+TEST_F(TimingFaults, TheSmallestRoundTripIsForgottenAfter128Transactions) {
+  model->setOffset({0.0, 0.0, 0.5});
+  make();
+  for (int i = 0; i < 3; ++i) cycle();
+  ASSERT_NEAR(port.last.offsetMm[2], 3 * kStep, kEps);
+  port.afterRead = [&] { clock.advance(4ms); };
+  port.duringWrite = [&] { clock.advance(4ms); };
+  std::vector<double> steps;
+  for (int i = 0; i < 67; ++i) {
+    const double before = port.last.offsetMm[2];
+    cycleAfter(2ms);  // writes sent 10 ms apart
+    steps.push_back(port.last.offsetMm[2] - before);
+  }
+  EXPECT_NEAR(steps.front(), 0.006, kEps);  // 6 ms since the last reply, 0 ms fastest
+  EXPECT_NEAR(steps[60], 0.006, kEps);
+  EXPECT_NEAR(steps.back(), kStep, kEps);
+}
+
+// A write that timed out (given up on after 25 ms) may still reach the controller at any moment:
+// the next cycle, run at once, is within the envelope of both values for the time since giving
+// up, so it writes nothing until that time allows a common value.
+TEST_F(TimingFaults, AWriteGivenUpOnCountsFromWhenItWasGivenUp) {
+  model->setOffset({0.0, 0.0, 0.3});
+  make();
+  for (int i = 0; i < 5; ++i) cycle();
+  port.writeError = std::make_error_code(std::errc::timed_out);
+  port.applyFailedWrites = true;
+  port.duringWrite = [&] { clock.advance(25ms); };
+  EXPECT_TRUE(cycle().unknownOutcome);  // attempted 0.06 from the acknowledged 0.05
+  port.writeError = {};
+  port.duringWrite = nullptr;
+  const int writes = port.writes;
+  EXPECT_EQ(cycleAfter(0ms).withheld, Withheld::UnknownOutcome);  // 25 ms since it was sent
+  EXPECT_EQ(port.writes, writes);
+  EXPECT_TRUE(cycleAfter(5ms).wrote);
+  EXPECT_LE(std::abs(port.last.offsetMm[2] - 0.05), 0.005 + kEps);
+  EXPECT_LE(std::abs(port.last.offsetMm[2] - 0.06), 0.005 + kEps);
+}
+
 // A gap (a silence of a second) allows one step, not a second's worth.
 TEST_F(TimingFaults, GapAllowsOneStepOnly) {
   model->setOffset({0.0, 0.0, 0.3});

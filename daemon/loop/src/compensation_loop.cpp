@@ -63,6 +63,7 @@ CompensationLoop::CompensationLoop(ControllerPort& port, const Clock& clock,
   // plcZeroAfter; this process has written nothing so far, so the wait starts now.
   lastWriteTime_ = clock_.now();
   lastSentTime_ = lastWriteTime_;
+  lastWriteEnd_ = lastWriteTime_;
 }
 
 void CompensationLoop::requestStop() noexcept {
@@ -116,6 +117,8 @@ bool CompensationLoop::tryConnect(time_point now, CycleReport& report) noexcept 
   }
   everConnected_ = true;
   controllerClock_.reset();
+  roundTripCount_ = 0;  // another connection, perhaps another route
+  minRoundTrip_ = std::chrono::nanoseconds(0);
   backoff_ = std::chrono::nanoseconds(0);
   state_ = LoopState::Starting;
   synced_ = false;
@@ -479,8 +482,10 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
   sentAny_ = true;
   lastSentTime_ = now;
   const std::error_code ec = port_.write(command_);
+  lastWriteEnd_ = clock_.now();
   if (!ec) {
-    lastWriteDuration_ = clock_.now() - now;
+    lastWriteDuration_ = lastWriteEnd_ - now;
+    recordRoundTrip(lastWriteDuration_);
     ++counters_.writes;
     lastWriteTime_ = now;
     lastWriteFailed_ = false;
@@ -499,6 +504,22 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
   ++counters_.unknownOutcomes;
   lastWriteFailed_ = true;
   report.unknownOutcome = true;
+}
+
+void CompensationLoop::recordRoundTrip(std::chrono::nanoseconds roundTrip) noexcept {
+  const bool full = roundTripCount_ == kRoundTripWindow;
+  const std::chrono::nanoseconds evicted = roundTrips_[roundTripNext_];
+  roundTrips_[roundTripNext_] = roundTrip;
+  roundTripNext_ = (roundTripNext_ + 1) % kRoundTripWindow;
+  roundTripCount_ = std::min(roundTripCount_ + 1, kRoundTripWindow);
+  if (roundTripCount_ == 1 || roundTrip <= minRoundTrip_) {
+    minRoundTrip_ = roundTrip;
+  } else if (full && evicted == minRoundTrip_) {
+    // The smallest left the window: scan it again (rare; at most once per 128 transactions
+    // while the round trips do not fall).
+    minRoundTrip_ = roundTrip;
+    for (const std::chrono::nanoseconds r : roundTrips_) minRoundTrip_ = std::min(minRoundTrip_, r);
+  }
 }
 
 CycleReport CompensationLoop::step() noexcept {
@@ -556,10 +577,12 @@ CycleReport CompensationLoop::step() noexcept {
     const time_point readAt = attempt == 0 ? now : clock_.now();
     if (attempt > 0) ++counters_.lateReads;
     report.error.clear();
+    const time_point requestAt = attempt == 0 ? clock_.now() : readAt;
     const std::error_code readError = port_.read(sample_);
     // The controller answered somewhere inside the transaction: its middle is the best guess,
     // unless the controller says when it latched the positions.
     const time_point replyAt = clock_.now();
+    if (!readError) recordRoundTrip(replyAt - requestAt);
     readMidAt_ = readAt + (replyAt - readAt) / 2;
     sampledAt_ = readMidAt_;
     sameLatch_ = false;
@@ -605,13 +628,18 @@ CycleReport CompensationLoop::step() noexcept {
     return withhold(Withheld::ReadbackOutOfRange, LoopState::Fault, d.fault);
   }
 
-  // dt: the time since the last write sent, so that a late cycle followed by an on-time one
-  // cannot put two steps into one period; capped at the period, so that a gap allows no more
-  // than one step.
-  const double dtS =
-      sentAny_ ? seconds(std::clamp<std::chrono::nanoseconds>(
-                     writeAt - lastSentTime_, std::chrono::nanoseconds(0), settings_.period))
-               : seconds(settings_.period);
+  // dt: the time since the last write, so that a late cycle followed by an on-time one cannot
+  // put two steps into one period; capped at the period, so that a gap allows no more than one
+  // step. The controller applied the last write before its reply came back and applies this one
+  // after it is sent; counting from the reply (plus the round trip of a transaction that was not
+  // held up) equals counting from the send when the last write was not delayed, and takes off
+  // the delay when it was (a write stuck in a queue that reaches the controller just before this
+  // one). A write that got no reply counts from when the loop gave up on it.
+  const double dtS = sentAny_
+                         ? seconds(std::clamp<std::chrono::nanoseconds>(
+                               writeAt - lastWriteEnd_ + minRoundTrip_, std::chrono::nanoseconds(0),
+                               std::min(writeAt - lastSentTime_, settings_.period)))
+                         : seconds(settings_.period);
   const LimiterState before = limiter_;
   LimiterOutput out = limitStep(settings_.limiter, limiter_, d.targetMm, dtS);
   if (out.invalidTarget && d.fault == FaultCode::None) {

@@ -23,7 +23,9 @@
 /// subtracted from the positions before the model is evaluated, so the offset does not feed back.
 ///
 /// Timing rules (each write is checked against what the controller may be applying then):
-///   - the limiter's dt is the measured time since the last write sent, capped at one period;
+///   - the limiter's dt is the measured time since the last write sent, capped at one period,
+///     and at most the time since its reply (or giving up on it) plus the smallest recent round
+///     trip: a write held up on its way cannot reach the controller bunched with the next;
 ///   - a write whose outcome is unknown (timeout, mismatched reply) may have been applied: until
 ///     a write is acknowledged, every value written is within one limiter step of the last
 ///     acknowledged value and of every value attempted since (or nothing is written);
@@ -201,6 +203,7 @@ class CompensationLoop {
                            double dtS) const noexcept;
   std::uint16_t statusWord(const Decision& d, const LimiterOutput& out, time_point now) noexcept;
   void writeCommand(time_point now, std::uint16_t status, CycleReport& report) noexcept;
+  void recordRoundTrip(std::chrono::nanoseconds roundTrip) noexcept;
 
   ControllerPort& port_;
   const Clock& clock_;
@@ -251,6 +254,18 @@ class CompensationLoop {
   time_point nextConnectAttempt_{};
   time_point lastWriteTime_{};  // last acknowledged write
   time_point lastSentTime_{};   // last write sent (acknowledged or not)
+  time_point lastWriteEnd_{};   // end of the last write transaction (its reply, or giving up)
+
+  /// Round trips of the recent transactions, reads and acknowledged writes (a window, since the
+  /// link may change): the smallest is a transaction without queueing. The limiter's dt is counted
+  /// from the end of the previous write plus that smallest round trip: a previous write held up on
+  /// its way (and so applied late) shortens the next step by as much, so that the two cannot reach
+  /// the controller bunched.
+  static constexpr std::size_t kRoundTripWindow = 128;
+  std::array<std::chrono::nanoseconds, kRoundTripWindow> roundTrips_{};
+  std::size_t roundTripCount_ = 0;
+  std::size_t roundTripNext_ = 0;
+  std::chrono::nanoseconds minRoundTrip_{0};
   time_point lastInputChange_{};
   time_point reconnectedUntil_{};
   time_point reloadedUntil_{};

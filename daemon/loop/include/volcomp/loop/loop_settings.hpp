@@ -23,8 +23,8 @@ enum class PositionSemantics : std::uint8_t {
 inline constexpr double kReadbackResolutionMm = 1e-4;
 
 struct LoopSettings {
-  /// Nominal cycle period. The limiter's dt is the measured time since the last write sent,
-  /// capped at this period.
+  /// Nominal cycle period. The limiter's dt is the measured time since the last write sent
+  /// (less after a write held up on its way), capped at this period.
   std::chrono::nanoseconds period = std::chrono::milliseconds(10);
   PositionSemantics semantics = PositionSemantics::Commanded;
   LimiterSettings limiter;

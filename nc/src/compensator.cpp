@@ -22,6 +22,9 @@ using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
 constexpr int kMaxRefineDepth = 12;
 constexpr double kMinPieceMm = 1e-7;
+// No machine travels a kilometre; beyond it a position is a wrong offset or unit, and its printed
+// counts (position x 10^decimals) would no longer be exact integers.
+constexpr double kMaxPositionMm = 1e6;
 
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -223,6 +226,28 @@ struct Compensator::Impl {
     }
   }
 
+  /// Throws NcError for a move whose start or end lies beyond kMaxPositionMm, in machine
+  /// coordinates or in the frame its coordinates are written in (a work offset of 1e308 mm).
+  void refuseOutOfRange(const MotionWork& w) const {
+    static constexpr char kAxes[3] = {'X', 'Y', 'Z'};
+    const auto check = [&](const Vec3& machineMm, const PrintMode& mode) {
+      const Vec3 shift = mode.machineCoordinates ? Vec3::Zero() : mode.frame.shiftMm;
+      for (int k = 0; k < 3; ++k) {
+        const double programMm = machineMm[k] - shift[k];
+        if (std::abs(machineMm[k]) <= kMaxPositionMm && std::abs(programMm) <= kMaxPositionMm) {
+          continue;  // also refuses NaN
+        }
+        std::ostringstream message;
+        message << kAxes[k] << " at " << machineMm[k] << " mm in machine coordinates (" << programMm
+                << " mm in the program's frame) is beyond +-" << kMaxPositionMm
+                << " mm: is a work offset or the unit wrong?";
+        throw NcError(file, w.line, 0, message.str());
+      }
+    };
+    check(w.move.endMm, w.after);
+    if (w.startKnown) check(w.move.startMm, w.before);
+  }
+
   /// Throws NcError for a move that would need more than options.maxCheckPointsPerMove.
   void refuseOversized(const MotionWork& w) const {
     const Move& m = w.move;
@@ -268,6 +293,7 @@ struct Compensator::Impl {
       planned.push_back(p);
       return;
     }
+    refuseOutOfRange(w);
     if (m.kind == MoveKind::Rapid || !w.startKnown) {
       Directions d = w.startKnown ? lineDirections(m) : masked(lastDirs);
       const std::uint32_t ref = addSolve(m.endMm, d, w.line);
@@ -512,8 +538,9 @@ struct Compensator::Impl {
     const double u0 = work[s.first].u;
     const double u1 = work[s.last].u;
     const double lengthMm = w.move.lengthMm() * (u1 - u0);
-    const int m =
-        std::clamp(static_cast<int>(std::ceil(std::sqrt(bound / (tolerance / 16.0)))), 2, 1024);
+    // Clamped as a double: the cast of an infinite or NaN bound to int is undefined.
+    const double wanted = std::ceil(std::sqrt(bound / (tolerance / 16.0)));
+    const int m = wanted >= 1024.0 ? 1024 : wanted >= 2.0 ? static_cast<int>(wanted) : 2;
     const int intervals = std::max(2, static_cast<int>(std::ceil(lengthMm / m / checkStep)));
     refineQ.clear();
     refineU.clear();

@@ -25,10 +25,11 @@ model::MachineModelSpec cubeSpec() {
 
 /// Compensates `program` with `reader`; returns the NcError's message ("" when accepted) and
 /// sets `line` to its line.
-std::string refusal(ProgramReader& reader, const std::string& program, long& line) {
+std::string refusal(ProgramReader& reader, const std::string& program, long& line,
+                    const CompensateOptions& options = {}) {
   OffsetField field(std::make_shared<const model::MachineModel>(cubeSpec()),
                     model::EvalMode::Exact);
-  Compensator c(field, {}, Vec3(10, 20, -30));
+  Compensator c(field, options, Vec3(10, 20, -30));
   StringSource source(program);
   StringSink sink;
   try {
@@ -40,9 +41,10 @@ std::string refusal(ProgramReader& reader, const std::string& program, long& lin
   return "";
 }
 
-std::string ngcRefusal(const std::string& program, long& line) {
+std::string ngcRefusal(const std::string& program, long& line,
+                       const CompensateOptions& options = {}) {
   NgcReader reader("hostile.ngc", {}, {}, Vec3(10, 20, -30), {});
-  return refusal(reader, program, line);
+  return refusal(reader, program, line, options);
 }
 
 std::string canonRefusal(const std::string& program, long& line) {
@@ -51,7 +53,9 @@ std::string canonRefusal(const std::string& program, long& line) {
 }
 
 // Fuzz finding (canon): STRAIGHT_FEED to Y 10090000 mm planned 100 million check points (16 s
-// and gigabytes for one line; 1e300 would never end).
+// and gigabytes for one line; 1e300 would never end). Such a line is now refused before, as a
+// position beyond a kilometre (next test); the bound on check points still refuses a move within
+// that range that would need too many (here with a check step of 0.1 mm).
 TEST(HostilePrograms, AMoveTooLongToCheckIsRefusedAtItsLine) {
   long line = 0;
   const std::string canon =
@@ -61,14 +65,43 @@ TEST(HostilePrograms, AMoveTooLongToCheckIsRefusedAtItsLine) {
   const std::string message = canonRefusal(canon, line);
   EXPECT_EQ(line, 3);
   EXPECT_NE(message.find("hostile.canon:3"), std::string::npos) << message;
-  EXPECT_NE(message.find("check points"), std::string::npos) << message;
+  EXPECT_NE(message.find("beyond +-1e+06 mm"), std::string::npos) << message;
 
   line = 0;
-  EXPECT_NE(ngcRefusal("G21 G90\nG1 X1000000000 F100\n", line).find("check points"),
+  CompensateOptions fine;
+  fine.checkStepMm = 0.1;
+  EXPECT_NE(ngcRefusal("G21 G90\nG1 X900000 F100\n", line, fine).find("check points"),
             std::string::npos);
   EXPECT_EQ(line, 2);
   // A long move within the bound is still compensated.
   EXPECT_EQ(ngcRefusal("G21 G90\nG1 X50000 F100\n", line), "");
+}
+
+// Fuzz finding (canon): a work offset of 1e308 mm put a rapid at Y 1e308; its printed counts
+// overflowed and the refinement cast an infinite deviation to int. A position beyond 1 km, in
+// machine coordinates or in the program's frame, is refused at its line by both readers.
+TEST(HostilePrograms, APositionBeyondAKilometreIsRefusedAtItsLine) {
+  long line = 0;
+  const std::string canon =
+      "    1 N..... SET_G5X_OFFSET(1, 0.0000, 1e308, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+      "    2 N..... STRAIGHT_TRAVERSE(0.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)\n";
+  std::string message = canonRefusal(canon, line);
+  EXPECT_NE(message.find("beyond +-1e+06 mm"), std::string::npos) << message;
+  EXPECT_NE(message.find("Y at 1e+308 mm"), std::string::npos) << message;
+  EXPECT_EQ(line, 2);
+  // In the program's frame only: machine Y 20, written as Y -1e9 under a 1e9 offset.
+  const std::string canonFrame =
+      "    1 N..... SET_G5X_OFFSET(1, 0.0000, 1000000020, 0.0000, 0.0000, 0.0000, 0.0000)\n"
+      "    2 N..... STRAIGHT_FEED(10.0000, -1000000000, -30.0000, 0.0000, 0.0000, 0.0000)\n";
+  message = canonRefusal(canonFrame, line);
+  EXPECT_NE(message.find("in the program's frame"), std::string::npos) << message;
+  EXPECT_EQ(line, 2);
+  const std::string ngc = "G21 G90\nG0 X10 Y20 Z-30\nG0 X2000000\n";
+  message = ngcRefusal(ngc, line);
+  EXPECT_NE(message.find("beyond +-1e+06 mm"), std::string::npos) << message;
+  EXPECT_EQ(line, 3);
+  // An ordinary program is not.
+  EXPECT_EQ(ngcRefusal("G21 G90\nG0 X10 Y20 Z-30\nG1 X100 F100\n", line), "");
 }
 
 TEST(HostilePrograms, ArcTurnsAreBounded) {

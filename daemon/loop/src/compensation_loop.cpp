@@ -515,8 +515,8 @@ void CompensationLoop::recordRoundTrip(std::chrono::nanoseconds roundTrip) noexc
   if (roundTripCount_ == 1 || roundTrip <= minRoundTrip_) {
     minRoundTrip_ = roundTrip;
   } else if (full && evicted == minRoundTrip_) {
-    // The smallest left the window: scan it again (rare; at most once per 128 transactions
-    // while the round trips do not fall).
+    // The smallest left the window: scan it again (128 comparisons, fixed storage; only when
+    // the oldest entry was the smallest).
     minRoundTrip_ = roundTrip;
     for (const std::chrono::nanoseconds r : roundTrips_) minRoundTrip_ = std::min(minRoundTrip_, r);
   }

@@ -104,6 +104,19 @@ TEST(HostilePrograms, APositionBeyondAKilometreIsRefusedAtItsLine) {
   EXPECT_EQ(ngcRefusal("G21 G90\nG0 X10 Y20 Z-30\nG1 X100 F100\n", line), "");
 }
 
+// Fuzz finding (ngc): "G92.3<TAB>2" is one word (RS274 allows blanks inside a number), which the
+// refusal quoted with its tab; a message is shown on a terminal, so control characters are
+// escaped in every NcError.
+TEST(HostilePrograms, AQuotedWordWithATabIsShownEscaped) {
+  long line = 0;
+  const std::string message = ngcRefusal("G92.3\t2\n", line);
+  EXPECT_EQ(line, 1);
+  EXPECT_NE(message.find("not a G code: G92.3\\t2"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\t'), std::string::npos) << message;
+  const NcError escaped("a\x1b[2Jb.ngc", 3, 0, "bad \x01");
+  EXPECT_STREQ(escaped.what(), "a\\x1b[2Jb.ngc:3: bad \\x01");
+}
+
 TEST(HostilePrograms, ArcTurnsAreBounded) {
   long line = 0;
   EXPECT_NE(ngcRefusal("G21 G90 G17\nG2 X10 Y20 I5 J0 P100000000000000000000 F100\n", line)

@@ -11,7 +11,8 @@ namespace volcomp::nc {
 class NcError : public std::runtime_error {
  public:
   /// what() reads "FILE:LINE:COLUMN: MESSAGE" (":COLUMN" left out when column is 0, ":LINE" when
-  /// line is 0).
+  /// line is 0), with control characters and invalid UTF-8 escaped (config::printable): a tab
+  /// inside a quoted word shows as \t.
   NcError(std::string file, long line, int column, std::string message);
 
   const std::string& file() const noexcept { return file_; }

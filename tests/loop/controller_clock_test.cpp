@@ -1,5 +1,6 @@
 // Mapping a controller's 16-bit sample timestamp onto the daemon's clock.
 #include "volcomp/loop/controller_clock.hpp"
+#include "volcomp/loop/window_minimum.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -110,3 +111,30 @@ TEST(ControllerClock, NoTickSizeIsNoTimestamp) {
 
 }  // namespace
 }  // namespace volcomp::loop
+
+namespace volcomp::loop::testing {
+namespace {
+
+// The window keeps the smallest of the last N values: a small one counts until N more have come,
+// a reset forgets everything.
+TEST(WindowMinimum, KeepsTheSmallestOfTheLastN) {
+  using std::chrono::nanoseconds;
+  WindowMinimum<4> w;
+  EXPECT_EQ(w.min(), nanoseconds(0));
+  w.push(nanoseconds(5));
+  w.push(nanoseconds(2));
+  w.push(nanoseconds(7));
+  EXPECT_EQ(w.min(), nanoseconds(2));
+  for (int i = 0; i < 3; ++i) w.push(nanoseconds(9));
+  EXPECT_EQ(w.min(), nanoseconds(7));  // 5 and 2 have left: 9, 9, 7, 9 held
+  w.push(nanoseconds(9));
+  EXPECT_EQ(w.min(), nanoseconds(9));
+  EXPECT_EQ(w.size(), 4U);
+  w.reset();
+  EXPECT_EQ(w.size(), 0U);
+  w.push(nanoseconds(11));
+  EXPECT_EQ(w.min(), nanoseconds(11));
+}
+
+}  // namespace
+}  // namespace volcomp::loop::testing

@@ -117,8 +117,7 @@ bool CompensationLoop::tryConnect(time_point now, CycleReport& report) noexcept 
   }
   everConnected_ = true;
   controllerClock_.reset();
-  roundTripCount_ = 0;  // another connection, perhaps another route
-  minRoundTrip_ = std::chrono::nanoseconds(0);
+  roundTrips_.reset();  // another connection, perhaps another route
   backoff_ = std::chrono::nanoseconds(0);
   state_ = LoopState::Starting;
   synced_ = false;
@@ -485,7 +484,7 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
   lastWriteEnd_ = clock_.now();
   if (!ec) {
     lastWriteDuration_ = lastWriteEnd_ - now;
-    recordRoundTrip(lastWriteDuration_);
+    roundTrips_.push(lastWriteDuration_);
     ++counters_.writes;
     lastWriteTime_ = now;
     lastWriteFailed_ = false;
@@ -504,22 +503,6 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
   ++counters_.unknownOutcomes;
   lastWriteFailed_ = true;
   report.unknownOutcome = true;
-}
-
-void CompensationLoop::recordRoundTrip(std::chrono::nanoseconds roundTrip) noexcept {
-  const bool full = roundTripCount_ == kRoundTripWindow;
-  const std::chrono::nanoseconds evicted = roundTrips_[roundTripNext_];
-  roundTrips_[roundTripNext_] = roundTrip;
-  roundTripNext_ = (roundTripNext_ + 1) % kRoundTripWindow;
-  roundTripCount_ = std::min(roundTripCount_ + 1, kRoundTripWindow);
-  if (roundTripCount_ == 1 || roundTrip <= minRoundTrip_) {
-    minRoundTrip_ = roundTrip;
-  } else if (full && evicted == minRoundTrip_) {
-    // The smallest left the window: scan it again (128 comparisons, fixed storage; only when
-    // the oldest entry was the smallest).
-    minRoundTrip_ = roundTrip;
-    for (const std::chrono::nanoseconds r : roundTrips_) minRoundTrip_ = std::min(minRoundTrip_, r);
-  }
 }
 
 CycleReport CompensationLoop::step() noexcept {
@@ -582,7 +565,7 @@ CycleReport CompensationLoop::step() noexcept {
     // The controller answered somewhere inside the transaction: its middle is the best guess,
     // unless the controller says when it latched the positions.
     const time_point replyAt = clock_.now();
-    if (!readError) recordRoundTrip(replyAt - requestAt);
+    if (!readError) roundTrips_.push(replyAt - requestAt);
     readMidAt_ = readAt + (replyAt - readAt) / 2;
     sampledAt_ = readMidAt_;
     sameLatch_ = false;
@@ -635,11 +618,11 @@ CycleReport CompensationLoop::step() noexcept {
   // held up) equals counting from the send when the last write was not delayed, and takes off
   // the delay when it was (a write stuck in a queue that reaches the controller just before this
   // one). A write that got no reply counts from when the loop gave up on it.
-  const double dtS = sentAny_
-                         ? seconds(std::clamp<std::chrono::nanoseconds>(
-                               writeAt - lastWriteEnd_ + minRoundTrip_, std::chrono::nanoseconds(0),
-                               std::min(writeAt - lastSentTime_, settings_.period)))
-                         : seconds(settings_.period);
+  const double dtS =
+      sentAny_ ? seconds(std::clamp<std::chrono::nanoseconds>(
+                     writeAt - lastWriteEnd_ + roundTrips_.min(), std::chrono::nanoseconds(0),
+                     std::min(writeAt - lastSentTime_, settings_.period)))
+               : seconds(settings_.period);
   const LimiterState before = limiter_;
   LimiterOutput out = limitStep(settings_.limiter, limiter_, d.targetMm, dtS);
   if (out.invalidTarget && d.fault == FaultCode::None) {

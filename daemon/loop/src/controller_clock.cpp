@@ -10,8 +10,7 @@ constexpr double kWrapTicks = 65536.0;
 }
 
 void ControllerClock::reset() noexcept {
-  count_ = 0;
-  next_ = 0;
+  offsets_.reset();
   have_ = false;
   unwrappedTicks_ = 0;
 }
@@ -52,11 +51,8 @@ ControllerClock::time_point ControllerClock::map(std::uint16_t ticks, double tic
 
   const auto controllerNs = std::chrono::nanoseconds(
       static_cast<std::int64_t>(std::llround(static_cast<double>(unwrappedTicks_) * tickS * 1e9)));
-  offsets_[next_] = replyAt.time_since_epoch() - controllerNs;
-  next_ = (next_ + 1) % kClockWindow;
-  count_ = std::min(count_ + 1, kClockWindow);
-  const auto smallest = *std::min_element(offsets_.begin(), offsets_.begin() + count_);
-  return time_point(controllerNs + smallest);
+  offsets_.push(replyAt.time_since_epoch() - controllerNs);
+  return time_point(controllerNs + offsets_.min());
 }
 
 }  // namespace volcomp::loop

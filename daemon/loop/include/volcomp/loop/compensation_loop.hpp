@@ -52,6 +52,7 @@
 #include "volcomp/loop/loop_settings.hpp"
 #include "volcomp/loop/ports.hpp"
 #include "volcomp/loop/status.hpp"
+#include "volcomp/loop/window_minimum.hpp"
 
 namespace volcomp::loop {
 
@@ -203,7 +204,6 @@ class CompensationLoop {
                            double dtS) const noexcept;
   std::uint16_t statusWord(const Decision& d, const LimiterOutput& out, time_point now) noexcept;
   void writeCommand(time_point now, std::uint16_t status, CycleReport& report) noexcept;
-  void recordRoundTrip(std::chrono::nanoseconds roundTrip) noexcept;
 
   ControllerPort& port_;
   const Clock& clock_;
@@ -261,11 +261,7 @@ class CompensationLoop {
   /// from the end of the previous write plus that smallest round trip: a previous write held up on
   /// its way (and so applied late) shortens the next step by as much, so that the two cannot reach
   /// the controller bunched.
-  static constexpr std::size_t kRoundTripWindow = 128;
-  std::array<std::chrono::nanoseconds, kRoundTripWindow> roundTrips_{};
-  std::size_t roundTripCount_ = 0;
-  std::size_t roundTripNext_ = 0;
-  std::chrono::nanoseconds minRoundTrip_{0};
+  WindowMinimum<128> roundTrips_;
   time_point lastInputChange_{};
   time_point reconnectedUntil_{};
   time_point reloadedUntil_{};

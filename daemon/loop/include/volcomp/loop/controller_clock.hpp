@@ -20,10 +20,11 @@
 ///
 /// noexcept and allocation-free (a fixed ring).
 
-#include <array>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+
+#include "volcomp/loop/window_minimum.hpp"
 
 namespace volcomp::loop {
 
@@ -44,7 +45,7 @@ class ControllerClock {
   void reset() noexcept;
 
   /// Samples the current mapping rests on (0 right after a reset).
-  std::size_t samples() const noexcept { return count_; }
+  std::size_t samples() const noexcept { return offsets_.size(); }
   /// Samples whose stamp differed from the one before (the first after a reset counts): a
   /// stamp that did not move is the same latch read again.
   std::uint64_t stamps() const noexcept { return stamps_; }
@@ -52,9 +53,7 @@ class ControllerClock {
  private:
   time_point map(std::uint16_t ticks, double tickS, time_point replyAt) noexcept;
 
-  std::array<std::chrono::nanoseconds, kClockWindow> offsets_{};  ///< r_j - c_j
-  std::size_t count_ = 0;
-  std::size_t next_ = 0;
+  WindowMinimum<kClockWindow> offsets_;  ///< r_j - c_j
   bool have_ = false;
   std::uint16_t lastTicks_ = 0;
   double lastTickS_ = 0.0;

@@ -151,6 +151,14 @@ void CanonReader::read(std::string_view line, std::string_view eol, long number,
     }
   }
   const auto number_ = [&](int index) { return argument(args, name, number, index); };
+  const auto toolNumber = [&](int index) {
+    const double tool = number_(index);
+    if (!isToolNumber(tool)) {
+      fail(number, args.offsets[static_cast<std::size_t>(index)],
+           std::string(name) + ": tool number must be a whole number in 0..2147483647");
+    }
+    return std::to_string(static_cast<long>(tool));
+  };
   std::string text;
   const auto emit = [&](const std::string& t) {
     work.action = LineAction::Text;
@@ -253,11 +261,11 @@ void CanonReader::read(std::string_view line, std::string_view eol, long number,
   } else if (name == "STOP_SPINDLE_TURNING") {
     emit("M5");
   } else if (name == "SELECT_TOOL") {
-    emit("T" + std::to_string(std::lround(number_(0))));
+    emit("T" + toolNumber(0));
   } else if (name == "CHANGE_TOOL") {
     emit("M6");
   } else if (name == "CHANGE_TOOL_NUMBER") {
-    emit("M61 Q" + std::to_string(std::lround(number_(0))));
+    emit("M61 Q" + toolNumber(0));
   } else if (name == "MIST_ON" || name == "FLOOD_ON" || name == "MIST_OFF" || name == "FLOOD_OFF") {
     if (name == "MIST_ON") mist_ = true;
     if (name == "FLOOD_ON") flood_ = true;

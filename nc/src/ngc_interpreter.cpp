@@ -6,8 +6,12 @@
 #include <numbers>
 #include <string>
 
+#include "volcomp/nc/numbers.hpp"
+
 namespace volcomp::nc {
 namespace {
+
+constexpr const char* kNotAToolNumber = "tool number must be a whole number in 0..2147483647";
 
 // Modal groups of the G codes we know (LinuxCNC numbering); -1 = not a G code of the subset.
 enum Group : int {
@@ -276,9 +280,7 @@ bool NgcInterpreter::execute(const Block& block, NgcLine& out, LineError& error)
     feed_ = f->value;
   }
   if (const Word* t = word('T')) {
-    if (t->value < 0 || t->value != std::floor(t->value)) {
-      return failAt(error, *t, "tool number must be a whole number >= 0");
-    }
+    if (!isToolNumber(t->value)) return failAt(error, *t, kNotAToolNumber);
     selectedTool_ = static_cast<int>(t->value);
   }
   for (int k = 0; k < mCount; ++k) {
@@ -290,9 +292,8 @@ bool NgcInterpreter::execute(const Block& block, NgcLine& out, LineError& error)
     }
     if (m == 61) {
       const Word* q = word('Q');
-      if (q == nullptr || q->value < 0 || q->value != std::floor(q->value)) {
-        return failAt(error, w, "M61 needs Q with a tool number");
-      }
+      if (q == nullptr) return failAt(error, w, "M61 needs Q with a tool number");
+      if (!isToolNumber(q->value)) return failAt(error, *q, kNotAToolNumber);
       toolInSpindle_ = static_cast<int>(q->value);
     }
   }
@@ -312,9 +313,7 @@ bool NgcInterpreter::execute(const Block& block, NgcLine& out, LineError& error)
     } else if (code == 430) {
       int tool = toolInSpindle_;
       if (const Word* h = word('H')) {
-        if (h->value < 0 || h->value != std::floor(h->value)) {
-          return failAt(error, *h, "H must be a tool number");
-        }
+        if (!isToolNumber(h->value)) return failAt(error, *h, kNotAToolNumber);
         tool = static_cast<int>(h->value);
       }
       const auto it = tools_.find(tool);

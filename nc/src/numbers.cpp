@@ -87,7 +87,26 @@ void appendCounts(std::string& out, std::int64_t counts, int decimals) {
 }
 
 void appendFixed(std::string& out, double value, int decimals) {
-  appendCounts(out, std::llround(value * pow10(decimals)), decimals);
+  const double counts = value * pow10(decimals);
+  if (std::abs(counts) < 9e18) {
+    appendCounts(out, std::llround(counts), decimals);
+    return;
+  }
+  // Beyond 64-bit counts (a feed rate of 1e300 in a canonical file) llround has no answer: print
+  // the double itself, trailing zeros trimmed as above.
+  std::array<char, 400> text{};
+  const auto result = std::to_chars(text.data(), text.data() + text.size(), value,
+                                    std::chars_format::fixed, decimals);
+  std::string_view printed(text.data(), static_cast<std::size_t>(result.ptr - text.data()));
+  if (printed.find('.') != std::string_view::npos) {
+    while (printed.back() == '0') printed.remove_suffix(1);
+    if (printed.back() == '.') printed.remove_suffix(1);
+  }
+  out += printed;
+}
+
+bool isToolNumber(double value) noexcept {
+  return value >= 0.0 && value <= kMaxToolNumber && value == std::floor(value);
 }
 
 }  // namespace volcomp::nc

@@ -127,9 +127,9 @@ void parseToolTableText(std::string_view text, const std::string& file, LengthUn
                       "expected a tool table field such as T1, P1, Z25.4 or D6");
       }
       if (letter == 'T') {
-        if (value != std::floor(value) || value < 0) {
+        if (!isToolNumber(value)) {
           throw NcError(file, lineNo, static_cast<int>(i) + 1,
-                        "tool number must be a whole number >= 0");
+                        "tool number must be a whole number in 0..2147483647");
         }
         toolNumber = static_cast<int>(value);
       } else if (letter >= 'X' && letter <= 'Z') {

@@ -117,6 +117,26 @@ TEST(HostilePrograms, AQuotedWordWithATabIsShownEscaped) {
   EXPECT_STREQ(escaped.what(), "a\\x1b[2Jb.ngc:3: bad \\x01");
 }
 
+// Fuzz finding (ngc): "T44444444444444" was converted to int, which is undefined beyond the
+// largest int. Tool numbers are bounded wherever they appear (T, M61 Q, G43 H, tool tables).
+TEST(HostilePrograms, ToolNumbersBeyondTheLargestIntAreRefused) {
+  const std::string expected = "tool number must be a whole number in 0..2147483647";
+  for (const std::string word : {"T44444444444444", "T-1", "T1.5", "M61 Q2147483648",
+                                 "M61 Q99999999999999999999", "G43 H1000000000000"}) {
+    long line = 0;
+    const std::string message = ngcRefusal("G21 G90\n" + word + "\nG1 X10 F100\n", line);
+    EXPECT_NE(message.find(expected), std::string::npos) << word << ": " << message;
+    EXPECT_EQ(line, 2) << word;
+  }
+  long line = 0;
+  EXPECT_EQ(ngcRefusal("G21 G90\nT2147483647 M6\nG1 X10 F100\n", line), "");
+  const std::string canon =
+      "    1 N..... SELECT_TOOL(1e12)\n"
+      "    2 N..... STRAIGHT_FEED(10.0000, 20.0000, -30.0000, 0.0000, 0.0000, 0.0000)\n";
+  EXPECT_NE(canonRefusal(canon, line).find("SELECT_TOOL: " + expected), std::string::npos);
+  EXPECT_EQ(line, 1);
+}
+
 TEST(HostilePrograms, ArcTurnsAreBounded) {
   long line = 0;
   EXPECT_NE(ngcRefusal("G21 G90 G17\nG2 X10 Y20 I5 J0 P100000000000000000000 F100\n", line)

@@ -63,6 +63,13 @@ TEST(ToolTable, OffsetsOfEachTool) {
     EXPECT_EQ(e.line(), 2);
     EXPECT_NE(std::string(e.what()).find("without a T"), std::string::npos);
   }
+  try {
+    parseToolTableText("T1 Z1\nT99999999999 Z3\n", "x.tbl", LengthUnit::Mm, t);
+    FAIL();
+  } catch (const NcError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(std::string(e.what()).find("0..2147483647"), std::string::npos) << e.what();
+  }
 }
 
 TEST(WorkOffsetsJson, SystemsToolsAndUnits) {

@@ -63,6 +63,13 @@ TEST(Numbers, CountsAreExactDecimals) {
   std::string s;
   appendFixed(s, -0.0000001, 5);
   EXPECT_EQ(s, "0") << "no negative zero";
+  // Beyond 64-bit counts (a feed rate of 1e300 in a canonical file) the double is printed.
+  s.clear();
+  appendFixed(s, 1e25, 6);
+  EXPECT_EQ(s, "10000000000000000905969664");
+  s.clear();
+  appendFixed(s, -12345678901234.5, 6);
+  EXPECT_EQ(s, "-12345678901234.5");
 }
 
 TEST(Tokenize, WordsWithColumnsAndComments) {

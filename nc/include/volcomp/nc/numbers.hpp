@@ -23,10 +23,18 @@ bool scanNumber(std::string_view line, std::size_t& pos, double& value,
 /// (1200000, 5) -> "12", (-5, 5) -> "-0.00005", (0, 3) -> "0". decimals in 0..9.
 void appendCounts(std::string& out, std::int64_t counts, int decimals);
 
-/// Appends `value` rounded to `decimals` decimals, trailing zeros trimmed, "-0" written as "0".
+/// Appends `value` rounded to `decimals` decimals, trailing zeros trimmed, "-0" written as "0"
+/// (beyond 9e18 counts, the double's exact decimal expansion rounded to `decimals`).
 void appendFixed(std::string& out, double value, int decimals);
 
 /// 10^decimals as a double (decimals in 0..9).
 double pow10(int decimals) noexcept;
+
+/// The largest tool number accepted (T, M61 Q, G43 H, tool tables): the largest int.
+inline constexpr double kMaxToolNumber = 2147483647.0;
+
+/// Whether `value` is a tool number: a whole number in 0..kMaxToolNumber (so that converting it to
+/// int is exact; NaN and infinities are not).
+bool isToolNumber(double value) noexcept;
 
 }  // namespace volcomp::nc

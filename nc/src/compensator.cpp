@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "volcomp/nc/move.hpp"
 #include "volcomp/nc/nc_error.hpp"
 #include "volcomp/nc/numbers.hpp"
 
@@ -22,9 +23,6 @@ using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
 constexpr int kMaxRefineDepth = 12;
 constexpr double kMinPieceMm = 1e-7;
-// No machine travels a kilometre; beyond it a position is a wrong offset or unit, and its printed
-// counts (position x 10^decimals) would no longer be exact integers.
-constexpr double kMaxPositionMm = 1e6;
 
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();

@@ -1,10 +1,13 @@
 #include "volcomp/sim/nc_program.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 
 #include "volcomp/nc/canon_reader.hpp"
+#include "volcomp/nc/nc_error.hpp"
 #include "volcomp/nc/ngc_reader.hpp"
 #include "volcomp/nc/text_io.hpp"
 
@@ -28,7 +31,46 @@ bool canonicalFile(const std::string& path) {
   return false;
 }
 
+// The simulator samples whole moves and files them in a grid of cells: a position beyond a
+// kilometre (a wrong offset or unit) would take forever or overflow the cell index.
+void refuseBeyondRange(const nc::Move& move, const std::string& file, long line) {
+  static constexpr char kAxes[3] = {'X', 'Y', 'Z'};
+  std::ostringstream message;
+  for (const nc::Vec3& p : {move.startMm, move.endMm}) {
+    for (int k = 0; k < 3 && message.tellp() == 0; ++k) {
+      if (!(std::abs(p[k]) <= nc::kMaxPositionMm))
+        message << kAxes[k] << " at " << p[k] << " mm is";
+    }
+  }
+  const double radiusMm = std::max(move.arc.startRadius, move.arc.endRadius);
+  if (message.tellp() == 0 && move.kind == nc::MoveKind::Arc && !(radiusMm <= nc::kMaxPositionMm)) {
+    message << "an arc of radius " << radiusMm << " mm reaches";
+  }
+  if (message.tellp() == 0) return;
+  message << " beyond +-" << nc::kMaxPositionMm << " mm: is a work offset or the unit wrong?";
+  throw nc::NcError(file, line, 0, message.str());
+}
+
 }  // namespace
+
+int piecesOf(const NcProgramMove& m, double wanted, const std::string& file, const char* what) {
+  if (!(wanted <= kMaxPiecesPerMove)) {
+    std::ostringstream message;
+    message << "this move would need " << wanted << " " << what << ", more than the "
+            << kMaxPiecesPerMove << " the simulator splits one move into";
+    throw nc::NcError(file, m.line, 0, message.str());
+  }
+  return std::max(1, static_cast<int>(std::ceil(wanted)));
+}
+
+int arcChords(const NcProgramMove& m, double toleranceMm, const std::string& file) {
+  if (m.move.kind != nc::MoveKind::Arc) return 1;
+  const double r = std::max(m.move.arc.startRadius, m.move.arc.endRadius);
+  const double maxAngle = r > toleranceMm ? 2.0 * std::acos(1.0 - toleranceMm / r) : 1.0;
+  std::ostringstream what;
+  what << "chords within " << toleranceMm << " mm";
+  return piecesOf(m, std::abs(m.move.arc.sweep) / maxAngle, file, what.str().c_str());
+}
 
 std::vector<NcProgramMove> readNcProgram(const NcProgramSpec& spec) {
   const nc::LengthUnit units =
@@ -69,6 +111,7 @@ std::vector<NcProgramMove> readNcProgram(const NcProgramSpec& spec) {
         const bool marked = marker || markNext;
         markNext = false;
         if (!w.startKnown || !w.endKnown) continue;
+        refuseBeyondRange(w.move, spec.file, number);
         moves.push_back(NcProgramMove{w.move, number, marked});
       }
       // A canonical COMMENT("volcomp: ...") marks the motion that follows it.
@@ -81,12 +124,7 @@ std::vector<NcProgramMove> readNcProgram(const NcProgramSpec& spec) {
 Path ncProgramPath(const NcProgramSpec& spec, double feedMmMin) {
   std::vector<Vec3> points;
   for (const NcProgramMove& m : readNcProgram(spec)) {
-    int n = 1;
-    if (m.move.kind == nc::MoveKind::Arc) {
-      const double r = std::max(m.move.arc.startRadius, m.move.arc.endRadius);
-      const double maxAngle = r > 1e-4 ? 2.0 * std::acos(1.0 - 1e-4 / r) : 1.0;
-      n = std::max(1, static_cast<int>(std::ceil(std::abs(m.move.arc.sweep) / maxAngle)));
-    }
+    const int n = arcChords(m, 1e-4, spec.file);
     if (points.empty()) points.push_back({m.move.startMm[0], m.move.startMm[1], m.move.startMm[2]});
     for (int i = 1; i <= n; ++i) {
       const nc::Vec3 p = m.move.at(static_cast<double>(i) / n);

@@ -29,16 +29,12 @@ struct Piece {
 
 // Reference path as short straight pieces (arcs within 1e-5 mm), with the direction in which each
 // axis last moved there.
-std::vector<Piece> referencePieces(const std::vector<NcProgramMove>& moves) {
+std::vector<Piece> referencePieces(const std::vector<NcProgramMove>& moves,
+                                   const std::string& file) {
   std::vector<Piece> pieces;
   MotionDirections dirs{};
   for (const NcProgramMove& m : moves) {
-    int n = 1;
-    if (m.move.kind == nc::MoveKind::Arc) {
-      const double r = std::max(m.move.arc.startRadius, m.move.arc.endRadius);
-      const double maxAngle = r > 1e-5 ? 2.0 * std::acos(1.0 - 1e-5 / r) : 1.0;
-      n = std::max(1, static_cast<int>(std::ceil(std::abs(m.move.arc.sweep) / maxAngle)));
-    }
+    const int n = arcChords(m, 1e-5, file);
     V3 a = m.move.startMm;
     for (int i = 1; i <= n; ++i) {
       const V3 b = m.move.at(static_cast<double>(i) / n);
@@ -148,7 +144,7 @@ namespace {
 class ContourMeter {
  public:
   ContourMeter(const NcProgramSpec& reference, const std::string& trueModel)
-      : pieces_(referencePieces(readNcProgram(reference))),
+      : pieces_(referencePieces(readNcProgram(reference), reference.file)),
         index_(pieces_),
         trueError_(loadTrueError(trueModel)) {
     if (pieces_.empty()) {
@@ -212,7 +208,7 @@ NcRunReport runNcProgram(const NcRunOptions& options) {
     }
     const double length = m.move.lengthMm();
     pathMm += length;
-    const int n = std::max(1, static_cast<int>(std::ceil(length / options.stepMm)));
+    const int n = piecesOf(m, length / options.stepMm, options.program.file, "samples at --step");
     const MotionDirections dirs = meter.directionsNear(m.move.at(0.5));
     for (int i = 0; i <= n; ++i) meter.add(m.move.at(static_cast<double>(i) / n), dirs);
   }
@@ -258,6 +254,10 @@ NcRunReport measureRecordedRun(const std::string& recordFile, const NcProgramSpe
                                 "expected 6 numbers x,y,z,ox,oy,oz");
     }
     const V3 q(f[0] + f[3], f[1] + f[4], f[2] + f[5]);
+    if (!(q.cwiseAbs().maxCoeff() <= nc::kMaxPositionMm)) {
+      throw config::ConfigError(recordFile + ":" + std::to_string(row), "",
+                                "a position beyond +-1e6 mm: is the unit wrong?");
+    }
     if (previous) pathMm += (q - *previous).norm();
     previous = q;
     meter.add(q, meter.directionsNear(q));

@@ -21,6 +21,11 @@ enum class MoveKind : std::uint8_t { Rapid, Line, Arc };
 /// real program, few enough that the turn count and the splitting stay within integers.
 inline constexpr int kMaxArcTurns = 10000;
 
+/// Largest |position| (mm, each axis, machine coordinates or a program's frame) a move may reach:
+/// no machine travels a kilometre; beyond it a position is a wrong offset or unit, and printed
+/// counts (position x 10^decimals) or sample counts would no longer be exact integers.
+inline constexpr double kMaxPositionMm = 1e6;
+
 /// Arc geometry in machine coordinates. The plane is spanned by axes `first` and `second` (X, Y
 /// for G17; Z, X for G18; Y, Z for G19, as LinuxCNC's canonical ARC_FEED orders them); `normal` is
 /// the third axis. Angles are measured from `first` towards `second`; a positive sweep is

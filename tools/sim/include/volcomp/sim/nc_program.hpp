@@ -29,8 +29,21 @@ struct NcProgramMove {
 };
 
 /// The moves whose start and end are known (moves before every axis has been programmed are
-/// left out). Throws nc::NcError or config::ConfigError for a bad program or file.
+/// left out). Throws nc::NcError or config::ConfigError for a bad program or file, and nc::NcError
+/// at its line for a move reaching beyond nc::kMaxPositionMm (an end point, or an arc's radius).
 std::vector<NcProgramMove> readNcProgram(const NcProgramSpec& spec);
+
+/// Most pieces (straight chords, samples) the simulator splits one move into.
+inline constexpr double kMaxPiecesPerMove = 1e7;
+
+/// ceil(wanted), at least 1: the number of pieces of move `m` of program `file`. Throws
+/// nc::NcError at the move's line, naming `what` ("chords within 1e-05 mm"), when that is more
+/// than kMaxPiecesPerMove (or not a number).
+int piecesOf(const NcProgramMove& m, double wanted, const std::string& file, const char* what);
+
+/// Pieces that keep arc `m` within `toleranceMm` of its chords (1 for a straight move), through
+/// piecesOf.
+int arcChords(const NcProgramMove& m, double toleranceMm, const std::string& file);
 
 /// The program's feed and rapid moves as a closed polyline path (arcs within 1e-4 mm), travelled
 /// at `feedMmMin`.

@@ -38,8 +38,9 @@ void refuseBeyondRange(const nc::Move& move, const std::string& file, long line)
   std::ostringstream message;
   for (const nc::Vec3& p : {move.startMm, move.endMm}) {
     for (int k = 0; k < 3 && message.tellp() == 0; ++k) {
-      if (!(std::abs(p[k]) <= nc::kMaxPositionMm))
+      if (!(std::abs(p[k]) <= nc::kMaxPositionMm)) {
         message << kAxes[k] << " at " << p[k] << " mm is";
+      }
     }
   }
   const double radiusMm = std::max(move.arc.startRadius, move.arc.endRadius);

@@ -27,7 +27,7 @@ using namespace volcomp;
 
 const can::CanLayout& exampleLayout(bool fd) {
   static const std::array<can::CanLayout, 2> layouts = [] {
-    const std::string file = VOLCOMP_EXAMPLES_DIR "/volcompd-can.json";
+    const std::string file = VOLCOMP_EXAMPLES_DIR + "/volcompd-can.json";
     nlohmann::json section = config::readJsonFile(file).at("transport");
     std::array<can::CanLayout, 2> out;
     for (const bool withFd : {false, true}) {

@@ -16,7 +16,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace volcomp;
-  const std::string file = VOLCOMP_EXAMPLES_DIR "/fuzz-volcompd.json";
+  const std::string file = VOLCOMP_EXAMPLES_DIR + "/fuzz-volcompd.json";
   try {
     const nlohmann::json document = config::parseJsonText(fuzz::text(data, size), file);
     const config::DaemonConfig c = config::parseDaemonConfig(document, file);

@@ -65,8 +65,7 @@ const std::vector<modbus::RegisterMap>& exampleMaps() {
   static const std::vector<modbus::RegisterMap> maps = [] {
     std::vector<modbus::RegisterMap> out;
     for (const char* name : {"volcompd-modbus-tcp.json", "volcompd-modbus-rtu.json"}) {
-      const config::DaemonConfig c =
-          config::loadDaemonConfig(std::string(VOLCOMP_EXAMPLES_DIR "/") + name);
+      const config::DaemonConfig c = config::loadDaemonConfig(VOLCOMP_EXAMPLES_DIR + "/" + name);
       out.push_back(std::get<modbus::ModbusSettings>(c.transport).registers);
     }
     return out;

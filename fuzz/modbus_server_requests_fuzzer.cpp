@@ -27,7 +27,7 @@ using namespace volcomp;
 const modbus::RegisterMap& exampleMap() {
   static const modbus::RegisterMap map = [] {
     const config::DaemonConfig c =
-        config::loadDaemonConfig(VOLCOMP_EXAMPLES_DIR "/volcompd-modbus-server-tcp.json");
+        config::loadDaemonConfig(VOLCOMP_EXAMPLES_DIR + "/volcompd-modbus-server-tcp.json");
     return std::get<modbus::ModbusSettings>(c.transport).registers;
   }();
   return map;

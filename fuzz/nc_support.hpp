@@ -25,7 +25,7 @@ namespace volcomp::fuzz {
 inline nc::OffsetField& exampleField() {
   static nc::OffsetField field(
       std::make_shared<const model::MachineModel>(std::get<model::MachineModelSpec>(
-          config::loadModelFile(VOLCOMP_EXAMPLES_DIR "/vmc-xyfz-21.json").spec)),
+          config::loadModelFile(VOLCOMP_EXAMPLES_DIR + "/vmc-xyfz-21.json").spec)),
       model::EvalMode::Exact);
   return field;
 }

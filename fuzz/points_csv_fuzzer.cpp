@@ -19,7 +19,7 @@ namespace {
 
 const volcomp::model::MachineModel& exampleModel() {
   static const volcomp::model::MachineModel model(std::get<volcomp::model::MachineModelSpec>(
-      volcomp::config::loadModelFile(VOLCOMP_EXAMPLES_DIR "/vmc-xyfz-21.json").spec));
+      volcomp::config::loadModelFile(VOLCOMP_EXAMPLES_DIR + "/vmc-xyfz-21.json").spec));
   return model;
 }
 

@@ -9,14 +9,15 @@
 # clean daemon stop, 1 otherwise, 2 when something could not start.
 #
 # Usage: ./scripts/demo.sh [SECONDS]      (default 10). It first runs ./scripts/setup-debian.sh
-#        and ./scripts/build.sh (BUILD_DIR as for build.sh); DEMO_NO_BUILD=1 skips both.
+#        --demo and ./scripts/build.sh --demo (what the demo needs and runs, nothing else;
+#        BUILD_DIR as for build.sh); DEMO_NO_BUILD=1 skips both.
 #        The report goes to DEMO_REPORT (default: BUILD_DIR/demo-report.html).
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
 if [ "${DEMO_NO_BUILD:-}" != 1 ]; then
-  "$root/scripts/setup-debian.sh"
-  "$root/scripts/build.sh"
+  "$root/scripts/setup-debian.sh" --demo
+  "$root/scripts/build.sh" --demo
 fi
 build="${BUILD_DIR:-$root/build}"
 examples="$root/config/examples"
@@ -28,7 +29,7 @@ report_file="$(realpath -m "${DEMO_REPORT:-$build/demo-report.html}")"
 
 for exe in "$sim" "$daemon" "$cli"; do
   if [ ! -x "$exe" ]; then
-    echo "demo: $exe is missing: run ./scripts/setup-debian.sh and ./scripts/build.sh first" >&2
+    echo "demo: $exe is missing: run ./scripts/setup-debian.sh --demo and ./scripts/build.sh --demo first" >&2
     exit 2
   fi
 done

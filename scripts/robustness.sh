@@ -1,31 +1,46 @@
 #!/usr/bin/env bash
-# The robustness pass of the test command (docs/robustness.md): a second build with clang,
-# AddressSanitizer and UndefinedBehaviorSanitizer into ${SANITIZE_BUILD_DIR:-build-sanitize}, in
-# which the unit, modbus and calibration labels run again, and every fuzz target (fuzz/) fuzzes
-# for ${VOLCOMP_FUZZ_SECONDS:-30} s from its committed corpus. Any sanitizer report, fuzz finding
-# or failed test fails the pass. Extra arguments go to ctest.
+# The clang pass of the test command (scripts/test.sh, docs/robustness.md): a build with clang,
+# AddressSanitizer and UndefinedBehaviorSanitizer into ${SANITIZE_BUILD_DIR:-build-sanitize} of
+# what this pass runs (no benchmarks, packages or system tests; the model once more with its
+# run-time dispatch off), then the unit and process tests and every fuzz target fuzzing for
+# ${VOLCOMP_FUZZ_SECONDS:-30} s from its committed corpus, side by side. Any sanitizer report,
+# fuzz finding or failed test fails the pass. Extra arguments go to ctest.
+#
+#   robustness.sh [CTEST_ARGS...]          build, then test
+#   robustness.sh --build-only | --test-only [CTEST_ARGS...]
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SANITIZE_BUILD_DIR:-$here/build-sanitize}"
 seconds="${VOLCOMP_FUZZ_SECONDS:-30}"
+jobs="${VOLCOMP_TEST_JOBS:-$(($(nproc) + 1))}"
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$here}"
+export CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-true}"
 werror=OFF
 if [ "${CI:-}" = "true" ]; then werror=ON; fi
-start=$(date +%s)
+steps=(build test)
+case "${1:-}" in
+  --build-only) steps=(build); shift ;;
+  --test-only) steps=(test); shift ;;
+esac
 
-CC=clang CXX=clang++ cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DVOLCOMP_WERROR="$werror" -DVOLCOMP_SANITIZE=ON -DVOLCOMP_FUZZ=ON -DVOLCOMP_BUILD_BENCH=OFF \
-  -DVOLCOMP_FUZZ_SECONDS="$seconds" >/dev/null
-cmake --build "$build" -j "$(nproc)"
-built=$(date +%s)
-
-# A report aborts the process that made it (the test fails), with a stack; leaks are reports too.
-export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1:strict_string_checks=1:check_initialization_order=1"
-export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-rm -f "$build/fuzz/summary.txt"
-cd "$build"
-status=0
-ctest --output-on-failure --timeout 900 -L 'unit|modbus|calibration|fuzz' "$@" || status=$?
-end=$(date +%s)
-if [ -f fuzz/summary.txt ]; then cat fuzz/summary.txt; fi
-echo "robustness pass: build $((built - start)) s, tests and fuzzing $((end - built)) s"
-exit "$status"
+for step in "${steps[@]}"; do
+  if [ "$step" = build ]; then
+    CC=clang CXX=clang++ cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DVOLCOMP_WERROR="$werror" \
+      -DVOLCOMP_SANITIZE=ON -DVOLCOMP_FUZZ=ON -DVOLCOMP_BUILD_BENCH=OFF -DVOLCOMP_BUILD_PACKAGE=OFF \
+      -DVOLCOMP_SYSTEM_TESTS=OFF -DVOLCOMP_MODEL_BASELINE_VARIANT=ON \
+      -DVOLCOMP_FUZZ_SECONDS="$seconds" >/dev/null
+    cmake --build "$build" -j "$(nproc)"
+  else
+    # A report aborts the process that made it (the test fails), with a stack; leaks are reports
+    # too.
+    export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1:strict_string_checks=1:check_initialization_order=1"
+    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+    rm -f "$build/fuzz/summary.txt"
+    status=0
+    ctest --test-dir "$build" --output-on-failure --timeout 900 -j "$jobs" \
+      -L '^(unit|process|fuzzing)$' "$@" || status=$?
+    if [ -f "$build/fuzz/summary.txt" ]; then cat "$build/fuzz/summary.txt"; fi
+    [ "$status" -eq 0 ] || exit "$status"
+  fi
+done

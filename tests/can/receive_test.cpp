@@ -20,7 +20,7 @@ namespace {
 
 CanLayout exampleLayout() {
   return std::get<CanLayout>(
-      config::loadDaemonConfig(VOLCOMP_EXAMPLES_DIR "/volcompd-can.json").transport);
+      config::loadDaemonConfig(VOLCOMP_EXAMPLES_DIR + "/volcompd-can.json").transport);
 }
 
 /// A classical frame of `id` whose payload is `bits`, little-endian (the example DBC is Intel).

@@ -73,7 +73,7 @@ if [ "$mode" != qemu ]; then
 fi
 
 # --- qemu --------------------------------------------------------------------------------------
-for tool in qemu-system-x86_64 apt-get apt-cache dpkg-deb tar gzip ldd cansend candump; do
+for tool in qemu-system-x86_64 apt-get apt-cache dpkg-deb tar gzip ldd cansend candump flock; do
   command -v "$tool" >/dev/null || fail "$tool not found (run scripts/setup-debian.sh)"
 done
 busybox="$(command -v busybox || true)"
@@ -81,7 +81,10 @@ busybox="$(command -v busybox || true)"
 { ldd "$busybox" 2>&1 || true; } | grep -q "not a dynamic" ||
   fail "$busybox is not statically linked (install busybox-static)"
 
-# 1. Debian's kernel package, downloaded once into the cache.
+# 1. Debian's kernel package, downloaded once into the cache. The CAN tests run side by side
+# (ctest -j), so one of them at a time downloads and extracts; the others wait for it.
+exec 9>"$cache/.download.lock"
+flock 9
 kernel_package() {
   apt-cache depends linux-image-amd64 2>/dev/null |
     sed -n 's/^ *Depends: \(linux-image-[0-9][^ ]*-amd64\)$/\1/p' | head -n 1
@@ -117,6 +120,7 @@ if [ ! -f "$kdir/.extracted" ]; then
     fail "cannot extract the kernel and CAN modules from $deb"
   touch "$kdir/.extracted"
 fi
+flock -u 9
 vmlinuz="$(ls -1 "$kdir"/boot/vmlinuz-* | head -n 1)"
 [ -f "$vmlinuz" ] || fail "no kernel image in $deb"
 

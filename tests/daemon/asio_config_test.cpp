@@ -1,4 +1,4 @@
-// Asio before any standard header, on purpose (issue 13): Asio chooses how it allocates and frees
+// Asio before any standard header, on purpose: Asio chooses how it allocates and frees
 // handler memory (aligned_alloc/free or operator new/delete) from a libstdc++ macro that only
 // exists once a standard header has been included. Files that included Asio first chose
 // differently from the others, and since both choices are inline functions of the same name, a

@@ -1,4 +1,4 @@
-// Issue 5 end to end, as a metrologist would do it: volcomp-sim's TRUE machine
+// Calibration end to end, as a metrologist would do it: volcomp-sim's TRUE machine
 // (config/examples/vmc-xyfz-21-true.json) is measured and calibrated with the example template
 // by the shared simulated calibration (tests/testutil/simulated_calibration.hpp: a grid in its
 // travel, four tool offsets, 0.5 um Gaussian noise per coordinate, X's reversal in a second
@@ -44,14 +44,14 @@ TEST_F(CalibrationPipeline, CalibratedModelRemovesAtLeast90PercentOfTheTrueError
   const json calibrated = bench_.readJson(files.model);
   const std::string& calibratedFile = files.model;
 
-  // --- The report has what issue 5 asks for.
+  // --- The report has what a calibration report must have.
   EXPECT_EQ(report["format"], "volcomp-calibration-report/1");
   const std::size_t n = report["parameter_count"].get<std::size_t>();
   ASSERT_EQ(report["parameters"].size(), n);
   // The template: per axis 4 tables (positioning and 3 angles) on 11 (X), 6 (Y), 6 (Z) nodes
   // = 44 + 24 + 24, 6 straightness polynomials c2..c6 = 30, 3 squareness constants.
   EXPECT_EQ(n, 44U + 24U + 24U + 30U + 3U);
-  // A parameter the data do not determine has no sigma and no correlations (issue 15).
+  // A parameter the data do not determine has no sigma and no correlations.
   std::vector<bool> identifiable;
   for (const json& p : report["parameters"]) {
     EXPECT_TRUE(p["name"].is_string());

@@ -1,4 +1,4 @@
-// Whole processes, issue 13 "found under hostile conditions": a read-back of the applied offsets
+// Whole processes under hostile conditions: a read-back of the applied offsets
 // outside +-max_offset (left over by an earlier run, or a garbled reply) is a fault of its own and
 // is never taken over, never written past the band, and does not hold a stop; a reload blocked on
 // file I/O (a FIFO as the model) does not hold a stop either.

@@ -1,4 +1,4 @@
-// Whole processes against a hostile controller (issue 13): volcompd talks to volcomp-sim through
+// Whole processes against a hostile controller: volcompd talks to volcomp-sim through
 // HostileModbusPeer, which answers wrongly in every way a Modbus TCP server can (wrong transaction
 // or unit id, wrong function, truncated, oversized, trailing garbage, random bytes, every
 // exception code, silence). The daemon must never crash, never write a value past the limiter

@@ -1,4 +1,5 @@
-// Whole processes, issue 10's loop features, seen on the wire (the simulator's record):
+// Whole processes, the loop's latch and saturation rules, seen on the wire (the simulator's
+// record):
 // - sustained saturation: a model asking for more than max_offset for longer than the thresholds
 //   gives a warning naming the axis and the requested value, the SATURATED bit, then the fault
 //   sustained-limit (code 7) with ramp-out, and 0 limiter violations;

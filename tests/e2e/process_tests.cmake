@@ -13,30 +13,22 @@ add_executable(volcomp_e2e_process_tests
   latency_compensation_e2e_test.cpp)
 target_link_libraries(volcomp_e2e_process_tests PRIVATE nlohmann_json::nlohmann_json
                       volcomp_testutil volcomp_warnings)
-target_compile_definitions(volcomp_e2e_process_tests PRIVATE
-  VOLCOMP_SIM_PATH="$<TARGET_FILE:volcomp-sim>"
-  VOLCOMPD_PATH="$<TARGET_FILE:volcompd>"
-  VOLCOMP_EXAMPLES_DIR="${PROJECT_SOURCE_DIR}/config/examples")
-add_dependencies(volcomp_e2e_process_tests volcompd volcomp-sim)
+volcomp_test_paths(volcomp_e2e_process_tests VOLCOMP_SIM_PATH=target:volcomp-sim
+                   VOLCOMPD_PATH=target:volcompd VOLCOMP_EXAMPLES_DIR=source:config/examples)
 # Each case runs its own processes for a few seconds; RUN_SERIAL keeps timings honest on a
 # 2-core machine (a starved daemon would look like a slow controller).
-gtest_discover_tests(volcomp_e2e_process_tests
-  PROPERTIES LABELS modbus TIMEOUT 60 RUN_SERIAL TRUE
-  DISCOVERY_TIMEOUT 30)
+volcomp_discover_tests(volcomp_e2e_process_tests AREA modbus KIND process
+  PROPERTIES TIMEOUT 60 RUN_SERIAL TRUE DISCOVERY_TIMEOUT 30)
 
 # The Modbus server role: volcompd as a process driven by libmodbus' client and mbpoll over TCP
 # and RTU (pseudo-terminals); label modbus.
 add_executable(volcomp_e2e_server_tests modbus_server_e2e_test.cpp)
 target_link_libraries(volcomp_e2e_server_tests PRIVATE volcomp::daemon PkgConfig::MODBUS
                       nlohmann_json::nlohmann_json volcomp_testutil volcomp_warnings)
-target_compile_definitions(volcomp_e2e_server_tests PRIVATE
-  VOLCOMP_SIM_PATH="$<TARGET_FILE:volcomp-sim>"
-  VOLCOMPD_PATH="$<TARGET_FILE:volcompd>"
-  VOLCOMP_EXAMPLES_DIR="${PROJECT_SOURCE_DIR}/config/examples")
-add_dependencies(volcomp_e2e_server_tests volcompd)
-gtest_discover_tests(volcomp_e2e_server_tests
-  PROPERTIES LABELS modbus TIMEOUT 60 RUN_SERIAL TRUE
-  DISCOVERY_TIMEOUT 30)
+volcomp_test_paths(volcomp_e2e_server_tests VOLCOMP_SIM_PATH=target:volcomp-sim
+                   VOLCOMPD_PATH=target:volcompd VOLCOMP_EXAMPLES_DIR=source:config/examples)
+volcomp_discover_tests(volcomp_e2e_server_tests AREA modbus KIND process
+  PROPERTIES TIMEOUT 60 RUN_SERIAL TRUE DISCOVERY_TIMEOUT 30)
 
 # The 1 kHz comparison harness (bench/daemon/run_1khz.sh) in short: two blocks of 3 s each of the
 # empty-loop baseline (cyclictest) and of volcompd at 1 kHz against volcomp-sim. No assertion on
@@ -50,8 +42,8 @@ if(CYCLICTEST)
                    VOLCOMP_SIM=$<TARGET_FILE:volcomp-sim>
                    ${PROJECT_SOURCE_DIR}/bench/daemon/run_1khz.sh)
   set_tests_properties(daemon_1khz_vs_baseline_smoke PROPERTIES
-    LABELS modbus TIMEOUT 60 RUN_SERIAL TRUE
-    FAIL_REGULAR_EXPRESSION "run_1khz: FAILED")
+    TIMEOUT 60 RUN_SERIAL TRUE FAIL_REGULAR_EXPRESSION "run_1khz: FAILED")
+  volcomp_test_labels(NAMES daemon_1khz_vs_baseline_smoke AREA daemon KIND system)
 else()
   message(WARNING "cyclictest (Debian rt-tests) not found: the 1 kHz harness's smoke test is not run")
 endif()

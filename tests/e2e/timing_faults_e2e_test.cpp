@@ -1,4 +1,4 @@
-// Whole processes, issue 13: the timing faults that used to give one-write jumps at the
+// Whole processes: the timing faults that used to give one-write jumps at the
 // controller, each over Modbus TCP and RTU, each checked on the simulator's record of every write
 // against what the controller applied at that moment (its rate check measures the controller's
 // own time between the writes it applies).

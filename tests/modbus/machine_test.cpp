@@ -430,7 +430,7 @@ TEST(SimMachine, WatchdogRemovesLeftOverOffsetsAndGarbleOnlyChangesTheReadBack) 
   EXPECT_DOUBLE_EQ(m.inputs(0.9).appliedOffsetMm[0], 0.0);
 }
 
-// The reply faults of issue 13: the next N writes applied but answered late or never, and a
+// The reply faults: the next N writes applied but answered late or never, and a
 // client stopped before the answer to its next read. Each is consumed by the request it hits.
 TEST(SimCommands, ReplyFaultsAreConsumedOneWriteAtATime) {
   const Command late = parseCommand("late-reply 0.08 2");

@@ -1,14 +1,13 @@
 // The report document without a browser: which sections it holds for which inputs, a table of
 // contents that matches them, chart specs that are valid JSON and cannot end their script
-// element, text escaped, numbers rounded like their uncertainty (seed 003's table 2), and the
-// `volcomp report` verb as a process.
+// element, text escaped, numbers rounded like their uncertainty (as Hanak, Zirn and Ruoff's
+// table 2 rounds them). The `volcomp report` verb as a process: report_verb_test.cpp.
 
 #include <gtest/gtest.h>
 
 #include <regex>
 #include <set>
 
-#include "run_cli.hpp"
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/report/assets.hpp"
 #include "volcomp/report/report.hpp"
@@ -138,65 +137,6 @@ TEST(ReportDocument, ADhChainGetsAReportWithoutMaps) {
   EXPECT_TRUE(contains(r.html, "Denavit-Hartenberg chain"));
   // Seed 000's perpendicularity deviation of link 2, alpha_e1 = -0.00013544 deg.
   EXPECT_TRUE(contains(r.html, "−0.0001354"));
-}
-
-TEST(ReportVerb, WritesTheFileAndSaysWhere) {
-  testing::TempDir dir;
-  const std::string out = (dir.path() / "r.html").string();
-  const testing::CliRun run =
-      testing::runCli(dir, "report " + testing::quoted(kExamples + "/vmc-xyfz-21.json") +
-                               " --run " + testing::quoted(kData + "/run-summary.json") +
-                               " --map-cells 8 --out " + testing::quoted(out));
-  ASSERT_EQ(run.status, 0) << run.err;
-  EXPECT_TRUE(contains(run.out, "report written to " + out));
-  EXPECT_TRUE(contains(run.out, "Compensation run"));
-  EXPECT_TRUE(contains(testing::readFile(out), "</html>"));
-}
-
-// The reader against the writer: `volcomp iso230-2 --json` of the example laser test.
-TEST(ReportVerb, ReadsWhatIso230TwoWrites) {
-  testing::TempDir dir;
-  const std::string jsonPath = (dir.path() / "x.json").string();
-  const testing::CliRun iso =
-      testing::runCli(dir, "iso230-2 " + testing::quoted(kExamples + "/iso230-2-x-runs.csv") +
-                               " --json " + testing::quoted(jsonPath));
-  ASSERT_EQ(iso.status, 0) << iso.err;
-  Notes notes;
-  const IsoAxis x = loadIsoAxis(jsonPath, notes);
-  EXPECT_TRUE(notes.empty()) << notes.front();
-  EXPECT_EQ(x.axis, "X");
-  EXPECT_EQ(x.runsUp, 5);
-  EXPECT_EQ(x.runsDown, 5);
-  EXPECT_EQ(x.targets.size(), 9U);
-  ASSERT_EQ(x.figures.size(), 12U);
-  const nlohmann::json document = readJsonFile(jsonPath);
-  EXPECT_DOUBLE_EQ(x.figures.back().valueUm,
-                   document["axis_figures"]["accuracy_bidirectional"].get<double>() * 1e3);
-  for (const IsoTarget& t : x.targets) {
-    EXPECT_EQ(t.runsUp.size(), 5U);
-    EXPECT_NEAR(*t.mean, 0.5 * (*t.meanUp + *t.meanDown), 1e-9);
-  }
-}
-
-TEST(ReportVerb, BadInputsGiveOneLineAndStatusTwo) {
-  testing::TempDir dir;
-  const std::string model = testing::quoted(kExamples + "/vmc-xyfz-21.json");
-  const std::string bad = dir.write("bad.json", "{\"format\": \"volcomp-model/1\"}");
-  struct Case {
-    std::string args, expected;
-  };
-  for (const Case& c : std::vector<Case>{
-           {"report " + testing::quoted(dir.path() / "none.json"), "none.json"},
-           {"report " + model + " --calibration " + testing::quoted(bad), "bad.json: format"},
-           {"report " + model + " --run " + testing::quoted(bad), "bad.json"},
-           {"report " + model + " --measurements x.csv", "--measurements and --template"},
-           {"report " + model + " --z-levels 1,a", "--z-levels"}}) {
-    const testing::CliRun run =
-        testing::runCli(dir, c.args + " --out " + testing::quoted(dir.path() / "o.html"));
-    EXPECT_EQ(run.status, 2) << c.args;
-    EXPECT_EQ(run.errLines(), 1) << run.err;
-    EXPECT_TRUE(contains(run.err, c.expected)) << run.err;
-  }
 }
 
 }  // namespace

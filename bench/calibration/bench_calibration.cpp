@@ -55,7 +55,7 @@ std::vector<Planar2DofSample> planarData() {
   return samples;
 }
 
-void BM_Seed003PlanarFit(benchmark::State& state) {
+void BM_PlanarDeviceFit(benchmark::State& state) {
   const Planar2DofParameters start{0.1, 0.1, 1.0, 0.1, 0.0, 0.0, 0.057 * kDeg, 3e-3, 3e-3};
   const Planar2DofProblem problem({}, planarData(), 0, kPaperFreeParameters, start);
   SolveOptions options;
@@ -68,7 +68,7 @@ void BM_Seed003PlanarFit(benchmark::State& state) {
   }
   state.counters["rank"] = rank;
 }
-BENCHMARK(BM_Seed003PlanarFit)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PlanarDeviceFit)->Unit(benchmark::kMicrosecond);
 
 void BM_TwentyOneComponentIdentification(benchmark::State& state) {
   const bench::VmcCase& c = bench::vmcCase();

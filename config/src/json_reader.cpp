@@ -113,10 +113,6 @@ std::vector<std::pair<std::string, JsonReader>> JsonReader::members() const {
   return out;
 }
 
-void JsonReader::expectArray() const {
-  if (!value_->is_array()) failExpected("an array");
-}
-
 std::vector<JsonReader> JsonReader::elements(std::size_t minCount, std::size_t maxCount) const {
   if (!value_->is_array() || value_->size() < minCount || value_->size() > maxCount) {
     std::string expected = "an array";

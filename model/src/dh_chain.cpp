@@ -12,7 +12,7 @@ namespace {
 // Closed forms rather than products of elementary matrices: fewer flops, and the zeros of the
 // elementary rotations stay exact zeros in the result.
 
-// Rz(theta) Trans(0,0,d) Trans(a,0,0) Rx(alpha) (seed 000 eq. 1).
+// Rz(theta) Trans(0,0,d) Trans(a,0,0) Rx(alpha) (Bulla Ramos et al., eq. 1).
 Eigen::Matrix4d standardLink(double thetaRad, double dMm, double aMm, double alphaRad) noexcept {
   const double ct = std::cos(thetaRad), st = std::sin(thetaRad);
   const double ca = std::cos(alphaRad), sa = std::sin(alphaRad);

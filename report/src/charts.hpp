@@ -41,7 +41,7 @@ struct MapScales {
 double mapCellPx(const ErrorMap& map);
 /// |E| as colour with the in-plane part of E as arrows.
 Json magnitudeMap(const ErrorMap& map, const MapScales& scales);
-/// The component of E normal to the plane (seed 000's deflection-over-the-table view).
+/// The component of E normal to the plane (Bulla Ramos et al.'s deflection-over-the-table view).
 Json outOfPlaneMap(const ErrorMap& map, const MapScales& scales);
 /// A 2-D grid of the model (values in µm over its two axes, node-centred cells).
 Json gridChart(const model::GridSpec& grid);

@@ -1,5 +1,5 @@
 // Section "Calibration": residuals before/after, the parameters with their standard deviations
-// (laid out like seed 003's table 2: starting value, optimised value, standard deviation),
+// (laid out like Hanak, Zirn and Ruoff's table 2: starting value, optimised value, standard deviation),
 // correlations, and what the measurements cannot separate.
 
 #include <algorithm>

@@ -18,7 +18,7 @@ namespace {
 using nlohmann::json;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Seed 000's chain (config/examples/seed000-cartesian-table.json) with its perpendicularity
+// Bulla Ramos et al.'s chain (config/examples/cartesian-table-dh.json) with its perpendicularity
 // deviations plus offsets on the a of the first two links.
 json seedChain() {
   return json::parse(R"({

@@ -163,7 +163,7 @@ TEST(ModelPlausibility, APolynomialWithoutTravelIsRefusedWhenRead) {
 
 TEST(ModelPlausibility, EveryExampleModelPasses) {
   for (const char* name : {"vmc-xyfz-21.json", "vmc-xyfz-21-true.json", "gantry-fxyz-grid.json",
-                           "seed000-cartesian-table.json"}) {
+                           "cartesian-table-dh.json"}) {
     const ModelDocument doc = loadModelFile(std::string(VOLCOMP_EXAMPLES_DIR) + "/" + name);
     OffsetBound bound;
     bound.maxOffsetMm.fill(0.1);  // the example daemon configurations' limiter

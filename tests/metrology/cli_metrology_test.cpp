@@ -147,7 +147,7 @@ TEST(CliExport, BadArgumentsAreOneLineWithStatusTwo) {
     EXPECT_EQ(run.status, 2) << args;
     EXPECT_EQ(run.errLines(), 1) << args << ": " << run.err;
   }
-  const CliRun chain = runCli(dir, "export " + quoted(kExamples + "/seed000-cartesian-table.json") +
+  const CliRun chain = runCli(dir, "export " + quoted(kExamples + "/cartesian-table-dh.json") +
                                        " --format linuxcnc --out l");
   EXPECT_EQ(chain.status, 2);
   EXPECT_NE(chain.err.find("D-H chain"), std::string::npos);

@@ -126,16 +126,16 @@ TEST(ReportDocument, AllInputsGiveAllSectionsInOrder) {
   EXPECT_TRUE(contains(r.html, "Calibration residual"));
   // Without the measurements, no residuals per point, and the appendix says so.
   EXPECT_TRUE(contains(r.html, "calibration residuals per point: the measurement file"));
-  // Seed 003's table 2 row: 0.30 mm with 0.18 mm.
+  // Hanak, Zirn and Ruoff's table 2 row: 0.30 mm with 0.18 mm.
   EXPECT_TRUE(contains(r.html, "0.30&#8239;mm</td><td class=\"num\">0.18&#8239;mm"));
 }
 
 TEST(ReportDocument, ADhChainGetsAReportWithoutMaps) {
-  const RenderedReport r = renderReport(modelOnly("seed000-cartesian-table.json"), options());
+  const RenderedReport r = renderReport(modelOnly("cartesian-table-dh.json"), options());
   ASSERT_EQ(r.sections.size(), 2U);
   EXPECT_EQ(r.charts, 0);
   EXPECT_TRUE(contains(r.html, "Denavit-Hartenberg chain"));
-  // Seed 000's perpendicularity deviation of link 2, alpha_e1 = -0.00013544 deg.
+  // Bulla Ramos et al.'s perpendicularity deviation of link 2, alpha_e1 = -0.00013544 deg.
   EXPECT_TRUE(contains(r.html, "−0.0001354"));
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // The example machine calibrated the way a metrologist would do it, for the tests that need a
 // model that differs from the truth as a real calibration does (the calibration end-to-end test,
-// the seed-004 experiment of `volcomp nc`).
+// the VMC part of Dobariya, Patel and Jani with `volcomp nc`).
 //
 // volcomp-sim's TRUE machine (config/examples/vmc-xyfz-21-true.json) is "measured" over a grid in
 // its travel with four tool offsets (a laser tracer's reflector on a cross-shaped holder), 0.5 um

@@ -129,8 +129,6 @@ class CsvReader {
   model::Directions directions(int column) const;
   /// The raw text of a field of the current row (trimmed, unquoted).
   std::string_view field(int column) const;
-  /// The current row as read, for messages.
-  const std::string& rowText() const noexcept { return text_; }
 
   /// Throws ConfigError(file, "line N, column NAME", message) for the current row.
   [[noreturn]] void fail(int column, const std::string& message) const;

@@ -66,12 +66,10 @@ class JsonReader {
   /// Short description of the value for messages: `"abc"`, `12.5`, `an object`, `null`...
   std::string describe() const;
 
-  bool isNull() const noexcept { return value_->is_null(); }
   bool isObject() const noexcept { return value_->is_object(); }
   bool isArray() const noexcept { return value_->is_array(); }
   bool isNumber() const noexcept { return value_->is_number(); }
   bool isString() const noexcept { return value_->is_string(); }
-  bool isBoolean() const noexcept { return value_->is_boolean(); }
 
   // Objects ------------------------------------------------------------------------------------
   void expectObject() const;
@@ -88,7 +86,6 @@ class JsonReader {
   std::vector<std::pair<std::string, JsonReader>> members() const;
 
   // Arrays -------------------------------------------------------------------------------------
-  void expectArray() const;
   /// Elements of an array with between minCount and maxCount elements.
   std::vector<JsonReader> elements(
       std::size_t minCount = 0,

@@ -30,7 +30,7 @@ struct DhLinkSpec {
   double thetaRad = 0, dMm = 0, aMm = 0, alphaRad = 0;
   double dThetaRad = 0, dDMm = 0, dAMm = 0, dAlphaRad = 0;
   // Fixed transform (isTransform): rotations about X, Y, Z (rad) and translation (mm), nominal
-  // geometry, plus optional deviations (file keys `drotation_deg`, `dtranslation`). Seed 000's
+  // geometry, plus optional deviations (file keys `drotation_deg`, `dtranslation`). Bulla Ramos et al.'s
   // error matrix M is a fixed transform with zero nominal and a deviation rotation about Y.
   Eigen::Vector3d rotationRad = Eigen::Vector3d::Zero();
   Eigen::Vector3d translationMm = Eigen::Vector3d::Zero();

@@ -1,6 +1,6 @@
 #pragma once
 /// `volcomp-sim nc-run`: the simulated machine runs an NC program (no controller link, no live
-/// compensation: the seed-004 experiment of compensating the program itself). The machine has its
+/// compensation: the experiment of Dobariya, Patel and Jani, who compensate the program itself). The machine has its
 /// TRUE error model; along every feed move of the program, sampled every `stepMm`, the tool tip
 /// q + E(q) is compared with the path of a REFERENCE program (the original part program): the
 /// error is the tip's distance from that path (contour error), with the direction of travel of

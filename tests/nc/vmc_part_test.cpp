@@ -1,4 +1,4 @@
-// The seed-004 experiment on the simulated machine: the part program compensated offline, run by
+// The VMC part of Dobariya, Patel and Jani on the simulated machine: the part program compensated offline, run by
 // volcomp-sim on the TRUE machine, against the original program run on the same machine; the
 // tool-tip error along the path (contour error) before and after (the paper reached 67 %). The
 // figures are quoted in the README and docs/nc.md.
@@ -28,9 +28,9 @@ std::string source(const std::string& relative) {
 nlohmann::json ncRun(const TempDir& dir, const std::string& program, const std::string& model) {
   const Command c = runCommand(
       dir, quoted(VOLCOMP_SIM) + " nc-run " + quoted(program) + " --reference " +
-               quoted(source("nc/examples/seed004-part.ngc")) + " --model " + quoted(model) +
-               " --work-offsets " + quoted(source("nc/examples/seed004.var")) + " --tool-table " +
-               quoted(source("nc/examples/seed004.tbl")) + " --step 0.1");
+               quoted(source("nc/examples/vmc-part.ngc")) + " --model " + quoted(model) +
+               " --work-offsets " + quoted(source("nc/examples/vmc-part.var")) + " --tool-table " +
+               quoted(source("nc/examples/vmc-part.tbl")) + " --step 0.1");
   EXPECT_EQ(c.status, 0) << c.err;
   return nlohmann::json::parse(c.out);
 }
@@ -38,10 +38,10 @@ nlohmann::json ncRun(const TempDir& dir, const std::string& program, const std::
 std::string compensate(const TempDir& dir, const std::string& model, const std::string& name) {
   const std::string out = (dir.path() / name).string();
   const CliRun r =
-      runCli(dir, "nc " + quoted(model) + " " + quoted(source("nc/examples/seed004-part.ngc")) +
+      runCli(dir, "nc " + quoted(model) + " " + quoted(source("nc/examples/vmc-part.ngc")) +
                       " --out " + quoted(out) + " --work-offsets " +
-                      quoted(source("nc/examples/seed004.var")) + " --tool-table " +
-                      quoted(source("nc/examples/seed004.tbl")));
+                      quoted(source("nc/examples/vmc-part.var")) + " --tool-table " +
+                      quoted(source("nc/examples/vmc-part.tbl")));
   EXPECT_EQ(r.status, 0) << r.err;
   std::cout << r.err;
   return out;
@@ -52,13 +52,13 @@ double reductionPercent(const nlohmann::json& before, const nlohmann::json& afte
 }
 
 void printLine(const char* what, const nlohmann::json& before, const nlohmann::json& after) {
-  std::cout << "seed 004 on the simulated machine, " << what << ": contour error RMS "
+  std::cout << "the VMC part on the simulated machine, " << what << ": contour error RMS "
             << before["rms_um"] << " um (max " << before["max_um"] << ") -> " << after["rms_um"]
             << " um (max " << after["max_um"] << "): " << reductionPercent(before, after)
             << " % lower\n";
 }
 
-TEST(Seed004, OfflineCompensationOnTheSimulatedMachine) {
+TEST(VmcPartPaper, OfflineCompensationOnTheSimulatedMachine) {
   TempDir dir;
   const std::string truth = source("config/examples/vmc-xyfz-21-true.json");
   const std::string handMade = source("config/examples/vmc-xyfz-21.json");
@@ -66,7 +66,7 @@ TEST(Seed004, OfflineCompensationOnTheSimulatedMachine) {
   const std::string calibrated = testutil::calibrateExampleMachine(bench).model;
   ASSERT_FALSE(::testing::Test::HasFailure());
 
-  const nlohmann::json before = ncRun(dir, source("nc/examples/seed004-part.ngc"), truth);
+  const nlohmann::json before = ncRun(dir, source("nc/examples/vmc-part.ngc"), truth);
   const nlohmann::json after = ncRun(dir, compensate(dir, calibrated, "calibrated.ngc"), truth);
   const nlohmann::json afterHandMade =
       ncRun(dir, compensate(dir, handMade, "hand-made.ngc"), truth);

@@ -1,4 +1,4 @@
-// Seed 000 (Bulla Ramos et al. 2018): the D-H chain of its table 1 with the perpendicularity
+// Bulla Ramos et al. (2018): the D-H chain of its table 1 with the perpendicularity
 // deviations of section 2.2 must reproduce the paper's eq. 11 (symbolic T_e), eq. 12 (numbers)
 // and eq. 13 (T_e - T).
 //
@@ -17,7 +17,7 @@
 // variables add to d1, d2, d3) and link 4 is the fixed torch (d4 its length, a4 its offset). This
 // matches the paper's remark that the errors depend on d3 and d4 only (eq. 13). The lengths below
 // are our choice (the paper leaves them symbolic); the same chain is in
-// config/examples/seed000-cartesian-table.json.
+// config/examples/cartesian-table-dh.json.
 
 #include <gtest/gtest.h>
 
@@ -56,9 +56,9 @@ DhLinkSpec dhLink(JointType joint, double thetaDeg, double dMm, double aMm, doub
   return link;
 }
 
-DhChainSpec seed000Chain() {
+DhChainSpec paperChain() {
   DhChainSpec spec;
-  spec.name = "seed 000 Cartesian table";
+  spec.name = "Cartesian table of Bulla Ramos et al.";
   spec.links.push_back(dhLink(JointType::Prismatic, 0.0, kD1, kA1, 90.0));
   spec.links.push_back(dhLink(JointType::Prismatic, 90.0, kD2, kA2, -90.0, -kAlphaE1Deg));
   spec.links.push_back(dhLink(JointType::Prismatic, 0.0, kD3, kA3, 0.0, kAlphaE2Deg));
@@ -76,16 +76,16 @@ constexpr double kJoints[3] = {600.0, 400.0, 80.0};
 constexpr double d1 = kD1 + kJoints[0], d2 = kD2 + kJoints[1], d3 = kD3 + kJoints[2], d4 = kD4;
 constexpr double a1 = kA1, a2 = kA2, a3 = kA3, a4 = kA4;
 
-TEST(Seed000, ChainHasThreeJoints) {
-  const DhChain chain(seed000Chain());
+TEST(CartesianTablePaper, ChainHasThreeJoints) {
+  const DhChain chain(paperChain());
   EXPECT_EQ(chain.jointCount(), 3);
 }
 
 // Eq. 12 as printed (decimal commas read as points). Each printed entry agrees with the exact
 // value to better than 1e-10 (the least precise, 0.99999999982 for cos(theta_e2) =
 // 0.9999999998212, is off by 1.2e-12), so 1e-10 is the paper's own precision.
-TEST(Seed000, RotationOfActualMatchesEquation12) {
-  const DhChain chain(seed000Chain());
+TEST(CartesianTablePaper, RotationOfActualMatchesEquation12) {
+  const DhChain chain(paperChain());
   const auto result = chain.evaluate(kJoints);
   const double eq12[3][3] = {
       {1.891064e-5, -1.6546768e-5, -0.999999999684296},
@@ -110,8 +110,8 @@ TEST(Seed000, RotationOfActualMatchesEquation12) {
 // (-v, -w, u); Rx(beta) Ry(theta) (a4, 0, d4) = (u, -Sb w, Cb w) with u = Ct a4 + St d4,
 // w = -St a4 + Ct d4; R1 R2 A3's translation (a3, 0, d3) gives (S2 d3, -C2 d3, a3);
 // R1 A2's translation gives (0, -d2, a2). Summing with (a1, 0, d1) gives the column above.
-TEST(Seed000, ActualMatchesEquation11Symbolically) {
-  const DhChain chain(seed000Chain());
+TEST(CartesianTablePaper, ActualMatchesEquation11Symbolically) {
+  const DhChain chain(paperChain());
   const auto result = chain.evaluate(kJoints);
   const double alpha2 = (-90.0 - kAlphaE1Deg) * kDeg, alpha3 = kAlphaE2Deg * kDeg;
   const double beta = alpha2 + alpha3, theta = kAlphaE2Deg * kDeg;
@@ -128,8 +128,8 @@ TEST(Seed000, ActualMatchesEquation11Symbolically) {
 
 // Nominal (alpha_2 = -90, alpha_3 = 0, M = I): eq. 11 with beta = -90, theta = 0, S2 = -1,
 // C2 = 0: R = [0 0 -1; 0 1 0; 1 0 0], p = (a1 - d4 - d3, -d2, a4 + a2 + a3 + d1).
-TEST(Seed000, NominalIsTheIdealTable) {
-  const DhChain chain(seed000Chain());
+TEST(CartesianTablePaper, NominalIsTheIdealTable) {
+  const DhChain chain(paperChain());
   const auto result = chain.evaluate(kJoints);
   Eigen::Matrix4d expected;
   expected << 0, 0, -1, a1 - d4 - d3,  //
@@ -149,8 +149,8 @@ TEST(Seed000, NominalIsTheIdealTable) {
 // Ct - 1 = -1.788e-10. With a4 = 30, d4 = 150,
 // d3 = 130 mm the rounding amounts to < 7e-8 mm in ex and < 1e-8 mm in ey, ez: tolerance 1e-7 mm.
 // The errors themselves are ~0.6 um (ex), -2.2 um (ey) and 2.8 um (ez).
-TEST(Seed000, ErrorColumnMatchesEquation13) {
-  const DhChain chain(seed000Chain());
+TEST(CartesianTablePaper, ErrorColumnMatchesEquation13) {
+  const DhChain chain(paperChain());
   const auto result = chain.evaluate(kJoints);
   const Eigen::Vector3d eq13(1.891e-5 * a4 + 4e-10 * d4 + 3e-10 * d3,
                              3.1291e-10 * a4 - 1.65468e-5 * d4 + 2.36387e-6 * d3,
@@ -166,8 +166,8 @@ TEST(Seed000, ErrorColumnMatchesEquation13) {
 // Rx(a) Rx(b) = Rx(a + b), so R_nominal^T R_actual = Rx(delta) Ry(theta_e2) with
 // delta = alpha_e2 - alpha_e1 = 0.00094806 deg. Its rotation vector (BCH to second order) is
 // (delta, theta_e2, delta theta_e2 / 2): third-order terms are ~1e-14 rad.
-TEST(Seed000, AngularErrorIsTheTwoPerpendicularityDeviations) {
-  const DhChain chain(seed000Chain());
+TEST(CartesianTablePaper, AngularErrorIsTheTwoPerpendicularityDeviations) {
+  const DhChain chain(paperChain());
   const auto result = chain.evaluate(kJoints);
   const double delta = (kAlphaE2Deg - kAlphaE1Deg) * kDeg, theta = kAlphaE2Deg * kDeg;
   EXPECT_NEAR(result.angularErrorRad.x(), delta, 1e-13);

@@ -1,7 +1,7 @@
-// The VMC part of Dobariya, Patel and Jani on the simulated machine: the part program compensated offline, run by
-// volcomp-sim on the TRUE machine, against the original program run on the same machine; the
-// tool-tip error along the path (contour error) before and after (the paper reached 67 %). The
-// figures are quoted in the README and docs/nc.md.
+// The VMC part of Dobariya, Patel and Jani on the simulated machine: the part program compensated
+// offline, run by volcomp-sim on the TRUE machine, against the original program run on the same
+// machine; the tool-tip error along the path (contour error) before and after (the paper reached 67
+// %). The figures are quoted in the README and docs/nc.md.
 //
 // The model the program is compensated with is made as a user makes it: the TRUE machine measured
 // (simulated tracer measurement with noise, the same one as the calibration end-to-end test:
@@ -37,11 +37,10 @@ nlohmann::json ncRun(const TempDir& dir, const std::string& program, const std::
 
 std::string compensate(const TempDir& dir, const std::string& model, const std::string& name) {
   const std::string out = (dir.path() / name).string();
-  const CliRun r =
-      runCli(dir, "nc " + quoted(model) + " " + quoted(source("nc/examples/vmc-part.ngc")) +
-                      " --out " + quoted(out) + " --work-offsets " +
-                      quoted(source("nc/examples/vmc-part.var")) + " --tool-table " +
-                      quoted(source("nc/examples/vmc-part.tbl")));
+  const CliRun r = runCli(
+      dir, "nc " + quoted(model) + " " + quoted(source("nc/examples/vmc-part.ngc")) + " --out " +
+               quoted(out) + " --work-offsets " + quoted(source("nc/examples/vmc-part.var")) +
+               " --tool-table " + quoted(source("nc/examples/vmc-part.tbl")));
   EXPECT_EQ(r.status, 0) << r.err;
   std::cout << r.err;
   return out;

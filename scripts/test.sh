@@ -14,7 +14,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${BUILD_DIR:-$here/build}"
-jobs="${VOLCOMP_TEST_JOBS:-$(($(nproc) + 1))}"
+jobs="${VOLCOMP_TEST_JOBS:-$(nproc)}"
 phases=()
 phase() {
   local name="$1" start status=0

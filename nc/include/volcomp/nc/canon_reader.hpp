@@ -44,6 +44,11 @@ class CanonReader final : public ProgramReader {
 
  private:
   struct Arguments;
+  /// One canonical call being read, and the handlers of the calls (a table by name).
+  struct Call;
+  struct Commands;
+  /// Splits the arguments between the parentheses at blanks and commas.
+  void splitArguments(Arguments& args, long number) const;
   [[noreturn]] void fail(long number, std::size_t offset, const std::string& message) const;
   /// Argument `index` of a canonical call as a number; a missing or non-numeric one is an error
   /// at its column.

@@ -60,7 +60,23 @@ class NgcInterpreter {
   PrintMode printMode() const noexcept;
 
  private:
+  struct LineWords;
   Frame frame() const noexcept;
+  /// The steps of execute(), in LinuxCNC's order; each returns false with `error` set when the
+  /// line is rejected.
+  bool sortWords(LineWords& words, NgcLine& out, LineError& error) const;
+  bool applyFeedAndTools(const LineWords& words, LineError& error);
+  bool applyToolLength(const LineWords& words, bool& axisWordsUsed, LineError& error);
+  bool applyCoordinateSystem(const LineWords& words, LineError& error);
+  bool executeMotion(const LineWords& words, bool axisWordsUsed, NgcLine& out, LineError& error);
+  /// Rejects a move without a motion mode, G53 with an arc or G91, a feed move without a feed.
+  bool checkMotion(const LineWords& words, LineError& error) const;
+  /// The end of the move (machine mm) from the axis words; `known` gains the axes they set.
+  void moveEnd(const LineWords& words, const Vec3& startProgram, Vec3& endMm, std::uint8_t& known,
+               NgcLine& out) const;
+  /// Checks the arc words of a G2/G3 line and, when the start is known, sets `out.move.arc`.
+  bool arcMove(const LineWords& words, const Vec3& startProgram, NgcLine& out,
+               LineError& error) const;
 
   WorkOffsets offsets_;
   ToolTable tools_;

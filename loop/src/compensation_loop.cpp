@@ -37,20 +37,6 @@ std::string_view stateName(LoopState state) noexcept {
   return "unknown";
 }
 
-std::string_view withheldName(Withheld reason) noexcept {
-  switch (reason) {
-    case Withheld::None:
-      return "none";
-    case Withheld::StaleRead:
-      return "stale read";
-    case Withheld::ReadbackOutOfRange:
-      return "read-back outside the band";
-    case Withheld::UnknownOutcome:
-      return "unknown write outcome";
-  }
-  return "unknown";
-}
-
 CompensationLoop::CompensationLoop(ControllerPort& port, const Clock& clock,
                                    std::shared_ptr<CompensationModel> model,
                                    const LoopSettings& settings)

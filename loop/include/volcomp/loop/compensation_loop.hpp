@@ -80,8 +80,6 @@ enum class Withheld : std::uint8_t {
   UnknownOutcome,
 };
 
-std::string_view withheldName(Withheld reason) noexcept;
-
 /// What one cycle did.
 struct CycleReport {
   LoopState previous = LoopState::Starting;
@@ -161,8 +159,7 @@ class CompensationLoop {
   FaultCode latchedFault() const noexcept { return latched_; }
   /// The inputs of the last successful read.
   const AxisSample& lastSample() const noexcept { return sample_; }
-  /// Status word and offsets of the last command built (written or attempted).
-  std::uint16_t lastStatus() const noexcept { return command_.status; }
+  /// Offsets of the last command built (written or attempted).
   const std::array<double, 3>& lastOffsetMm() const noexcept { return command_.offsetMm; }
   std::uint16_t heartbeat() const noexcept { return command_.heartbeat; }
   const LoopCounters& counters() const noexcept { return counters_; }

@@ -72,7 +72,7 @@ void CompensationLoop::setSettings(const LoopSettings& settings) noexcept {
   settings_.offsetReadback = readback;
   settings_.plcZeroAfter = plcZeroAfter;
   tracker_.setHysteresis(settings_.directionHysteresisMm);
-  if (!settings_.faultLatch) latched_ = FaultCode::None;
+  if (!settings_.faultLatch) latch_.release();
 }
 
 void CompensationLoop::enterLinkLost(time_point now, CycleReport& report) noexcept {
@@ -141,8 +141,7 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
   lastInputChange_ = now;
   lastSequence_ = sample_.sequence;
   lastPositionMm_ = sample_.positionMm;
-  lastEnable_ = sample_.enable;
-  lastAck_ = sample_.hasFaultAck && sample_.faultAck;
+  latch_.seed(sample_.enable, sample_.hasFaultAck && sample_.faultAck);
   fault_ = FaultCode::None;
   lastWriteFailed_ = false;  // a failure before the resynchronisation says nothing about now
   synced_ = true;
@@ -329,20 +328,11 @@ ModelOffset CompensationLoop::holdOffset(const HoldPrediction& hold) noexcept {
 // A latched fault stays until the controller acknowledges it: a rising edge of its fault-ack
 // input, or its enable input switched off (the enable toggle). An edge counts only on a read.
 void CompensationLoop::applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept {
-  if (!readFailed) {
-    const bool ack = sample_.hasFaultAck && sample_.faultAck;
-    if (latched_ != FaultCode::None && ((ack && !lastAck_) || (!sample_.enable && lastEnable_))) {
-      latched_ = FaultCode::None;
-      report.acknowledged = true;
-    }
-    lastAck_ = ack;
-    lastEnable_ = sample_.enable;
+  // Only set, never reset: a cycle that reads twice reports an acknowledge of either read.
+  if (!readFailed && latch_.acknowledge(sample_.enable, sample_.hasFaultAck && sample_.faultAck)) {
+    report.acknowledged = true;
   }
-  if (d.fault != FaultCode::None) {
-    if (settings_.faultLatch && latchable(d.fault)) latched_ = d.fault;
-  } else if (latched_ != FaultCode::None) {
-    d.fault = latched_;
-  }
+  d.fault = latch_.apply(d.fault, settings_.faultLatch);
 }
 
 CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFailed,
@@ -456,7 +446,7 @@ std::uint16_t CompensationLoop::statusWord(const Decision& d, const LimiterOutpu
   if (now < reloadedUntil_) status |= status::kModelReloaded;
   if (reloadFailed_) status |= status::kReloadFailed;
   if (d.saturated) status |= status::kSaturated;
-  if (latched_ != FaultCode::None) status |= status::kLatched;
+  if (latch_.holding()) status |= status::kLatched;
   return status;
 }
 

@@ -47,6 +47,7 @@
 #include "volcomp/loop/compensation_model.hpp"
 #include "volcomp/loop/controller_clock.hpp"
 #include "volcomp/loop/direction_tracker.hpp"
+#include "volcomp/loop/fault_latch.hpp"
 #include "volcomp/loop/latency_compensation.hpp"
 #include "volcomp/loop/limiter.hpp"
 #include "volcomp/loop/loop_settings.hpp"
@@ -156,7 +157,7 @@ class CompensationLoop {
   LoopState state() const noexcept { return state_; }
   FaultCode fault() const noexcept { return fault_; }
   /// The fault held by the latch until acknowledged (None when nothing is latched).
-  FaultCode latchedFault() const noexcept { return latched_; }
+  FaultCode latchedFault() const noexcept { return latch_.held(); }
   /// The inputs of the last successful read.
   const AxisSample& lastSample() const noexcept { return sample_; }
   /// Offsets of the last command built (written or attempted).
@@ -209,7 +210,7 @@ class CompensationLoop {
 
   LoopState state_ = LoopState::Starting;
   FaultCode fault_ = FaultCode::None;
-  FaultCode latched_ = FaultCode::None;
+  FaultLatch latch_;
   bool synced_ = false;
   bool everConnected_ = false;
   bool stopRequested_ = false;
@@ -217,8 +218,6 @@ class CompensationLoop {
   bool reloadFailed_ = false;
   bool lastWriteFailed_ = false;
   bool sentAny_ = false;
-  bool lastEnable_ = false;
-  bool lastAck_ = false;
 
   AxisSample sample_{};
   OffsetCommand command_{};

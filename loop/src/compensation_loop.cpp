@@ -114,7 +114,7 @@ bool CompensationLoop::tryConnect(time_point now, CycleReport& report) noexcept 
 void CompensationLoop::adopt(const std::array<double, 3>& appliedMm) noexcept {
   resetLimiter(limiter_, appliedMm);
   command_.offsetMm = limiter_.offsetMm;
-  uncertain_ = false;
+  envelope_.clear();
 }
 
 bool CompensationLoop::synchronise(time_point now) noexcept {
@@ -397,27 +397,6 @@ std::chrono::nanoseconds CompensationLoop::readToWriteBound(time_point readAt) c
   return silent ? std::min(settings_.readToWriteMax, settings_.period) : settings_.readToWriteMax;
 }
 
-// After writes with an unknown outcome the controller applies some value of the envelope: the
-// output must be within one step (max_rate x dt) of all of them. The limiter stepped from the
-// last attempted value, which is inside the envelope, so the window is never empty unless dt
-// shrank below half the step that made the envelope. Returns false then (write nothing).
-bool CompensationLoop::constrainToEnvelope(LimiterState& state, const LimiterState& before,
-                                           double dtS) const noexcept {
-  if (!uncertain_) return true;
-  LimiterState constrained = state;
-  for (std::size_t k = 0; k < 3; ++k) {
-    const double stepMm = settings_.limiter.axes[k].maxRateMmS * dtS;
-    const double lo = envelopeHighMm_[k] - stepMm;
-    const double hi = envelopeLowMm_[k] + stepMm;
-    if (lo > hi + 1e-12) return false;
-    constrained.offsetMm[k] = std::clamp(state.offsetMm[k], lo, std::max(lo, hi));
-    constrained.velocityMmS[k] =
-        dtS > 0.0 ? (constrained.offsetMm[k] - before.offsetMm[k]) / dtS : 0.0;
-  }
-  state = constrained;
-  return true;
-}
-
 std::uint16_t CompensationLoop::statusWord(const Decision& d, const LimiterOutput& out,
                                            time_point now) noexcept {
   std::uint16_t status = 0;
@@ -464,7 +443,7 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
     ++counters_.writes;
     lastWriteTime_ = now;
     lastWriteFailed_ = false;
-    uncertain_ = false;
+    envelope_.clear();
     report.wrote = true;
     return;
   }
@@ -605,7 +584,7 @@ CycleReport CompensationLoop::step() noexcept {
     d.fault = FaultCode::ModelInvalid;
     d.next = stopRequested_ ? LoopState::Stopping : LoopState::Fault;
   }
-  if (!constrainToEnvelope(limiter_, before, dtS)) {
+  if (!envelope_.constrain(settings_.limiter, before, dtS, limiter_)) {
     limiter_ = before;
     if (pastStopDeadline) return finish();
     return withhold(Withheld::UnknownOutcome, state_, fault_);
@@ -624,18 +603,9 @@ CycleReport CompensationLoop::step() noexcept {
   fault_ = d.fault;
   state_ = d.next;
   report.fault = d.fault;
-  // The envelope of what the controller may apply, should this write's outcome be unknown.
-  const std::array<double, 3> acknowledged = before.offsetMm;
-  const bool wasUncertain = uncertain_;
   writeCommand(writeAt, status, report);
   if (report.unknownOutcome) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      const double lo = wasUncertain ? envelopeLowMm_[k] : acknowledged[k];
-      const double hi = wasUncertain ? envelopeHighMm_[k] : acknowledged[k];
-      envelopeLowMm_[k] = std::min(lo, command_.offsetMm[k]);
-      envelopeHighMm_[k] = std::max(hi, command_.offsetMm[k]);
-    }
-    uncertain_ = true;
+    envelope_.widen(before.offsetMm, command_.offsetMm);
   } else if (!report.wrote) {
     // The link is gone: nothing more is written until the read-back after reconnecting.
     limiter_ = before;

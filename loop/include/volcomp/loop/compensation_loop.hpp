@@ -54,6 +54,7 @@
 #include "volcomp/loop/ports.hpp"
 #include "volcomp/loop/status.hpp"
 #include "volcomp/loop/window_minimum.hpp"
+#include "volcomp/loop/write_envelope.hpp"
 
 namespace volcomp::loop {
 
@@ -198,8 +199,6 @@ class CompensationLoop {
   void applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept;
   bool readbackOutOfRange() const noexcept;
   std::chrono::nanoseconds readToWriteBound(time_point readAt) const noexcept;
-  bool constrainToEnvelope(LimiterState& state, const LimiterState& before,
-                           double dtS) const noexcept;
   std::uint16_t statusWord(const Decision& d, const LimiterOutput& out, time_point now) noexcept;
   void writeCommand(time_point now, std::uint16_t status, CycleReport& report) noexcept;
 
@@ -234,12 +233,8 @@ class CompensationLoop {
   bool sameLatch_ = false;  ///< sample_'s timestamp is the previous sample's: nothing new latched
   std::chrono::nanoseconds lastWriteDuration_{0};
 
-  /// Writes with an unknown outcome since the last acknowledged one: the controller applies a
-  /// value in [envelopeLowMm_, envelopeHighMm_] per axis (the hull of the acknowledged value and
-  /// every value attempted since).
-  bool uncertain_ = false;
-  std::array<double, 3> envelopeLowMm_{};
-  std::array<double, 3> envelopeHighMm_{};
+  /// What the controller may apply while writes have an unknown outcome.
+  WriteEnvelope envelope_;
 
   /// Per axis: since when the model's target has been outside the clamp band (clamping_).
   std::array<bool, 3> clamping_{};

@@ -224,9 +224,7 @@ FaultCode CompensationLoop::checkInputs(time_point now, std::array<double, 3>& q
   return FaultCode::None;
 }
 
-// The model's offset at q, and sustained limiting: the clamp (a target outside the band, not the
-// slew towards it) holding an axis for longer than the warning time sets SATURATED, longer than
-// the fault time is a fault of its own.
+// The model's offset at q, and sustained limiting, which only a valid target can show.
 void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>& qMm, bool newData,
                                      Decision& d, CycleReport& report) noexcept {
   const model::Directions directions = tracker_.update(qMm);
@@ -244,28 +242,15 @@ void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>
   }
   d.targetMm = result.offsetMm;
   d.evaluated = true;
-  int longestAxis = -1;
-  std::chrono::nanoseconds longest{0};
-  for (std::size_t k = 0; k < 3; ++k) {
-    const bool clamped = std::abs(d.targetMm[k]) > settings_.limiter.axes[k].maxOffsetMm;
-    if (clamped && !clamping_[k]) clampSince_[k] = now;
-    clamping_[k] = clamped;
-    if (clamped && now - clampSince_[k] >= longest) {
-      longest = now - clampSince_[k];
-      longestAxis = static_cast<int>(k);
-    }
-  }
-  const auto reached = [&](std::chrono::nanoseconds threshold) {
-    return longestAxis >= 0 && threshold.count() > 0 && longest >= threshold;
-  };
-  d.saturated = reached(settings_.saturationWarning);
-  if (d.saturated && !saturationWarned_) {
+  const Saturation saturation = saturation_.update(
+      now, d.targetMm, settings_.limiter, settings_.saturationWarning, settings_.saturationFault);
+  d.saturated = saturation.saturated;
+  if (saturation.warningStarted) {
     ++counters_.saturationWarnings;
-    report.saturationAxis = longestAxis;
-    report.saturationRequestedMm = d.targetMm[static_cast<std::size_t>(longestAxis)];
+    report.saturationAxis = saturation.axis;
+    report.saturationRequestedMm = saturation.requestedMm;
   }
-  saturationWarned_ = d.saturated;
-  if (reached(settings_.saturationFault)) d.fault = FaultCode::SustainedLimit;
+  if (saturation.fault) d.fault = FaultCode::SustainedLimit;
 }
 
 // The tracker follows the measured positions only: what the prediction assumes for the hold (an
@@ -360,8 +345,7 @@ CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFai
   }
   if (!d.evaluated) {
     estimator_.reset();
-    clamping_ = {};
-    saturationWarned_ = false;
+    saturation_.reset();
   }
   if (stopRequested_) {
     d.next = LoopState::Stopping;

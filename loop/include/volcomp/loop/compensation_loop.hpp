@@ -52,6 +52,7 @@
 #include "volcomp/loop/limiter.hpp"
 #include "volcomp/loop/loop_settings.hpp"
 #include "volcomp/loop/ports.hpp"
+#include "volcomp/loop/saturation_monitor.hpp"
 #include "volcomp/loop/status.hpp"
 #include "volcomp/loop/window_minimum.hpp"
 #include "volcomp/loop/write_envelope.hpp"
@@ -235,11 +236,7 @@ class CompensationLoop {
 
   /// What the controller may apply while writes have an unknown outcome.
   WriteEnvelope envelope_;
-
-  /// Per axis: since when the model's target has been outside the clamp band (clamping_).
-  std::array<bool, 3> clamping_{};
-  std::array<time_point, 3> clampSince_{};
-  bool saturationWarned_ = false;
+  SaturationMonitor saturation_;
 
   std::chrono::nanoseconds backoff_{0};
   time_point nextConnectAttempt_{};

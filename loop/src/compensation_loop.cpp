@@ -80,21 +80,18 @@ void CompensationLoop::enterLinkLost(time_point now, CycleReport& report) noexce
   ++counters_.linkLosses;
   state_ = LoopState::LinkLost;
   synced_ = false;
-  backoff_ = settings_.reconnectInitial;
-  nextConnectAttempt_ = now + backoff_;
+  backoff_.linkLost(now, settings_.reconnectInitial);
   report.state = state_;
 }
 
 bool CompensationLoop::tryConnect(time_point now, CycleReport& report) noexcept {
-  if (now < nextConnectAttempt_) return false;
+  if (!backoff_.due(now)) return false;
   ++counters_.connectAttempts;
   const std::error_code ec = port_.connect();
   if (ec) {
     report.error = ec;
     state_ = LoopState::LinkLost;
-    backoff_ = backoff_.count() == 0 ? settings_.reconnectInitial
-                                     : std::min(2 * backoff_, settings_.reconnectMax);
-    nextConnectAttempt_ = now + backoff_;
+    backoff_.attemptFailed(now, settings_.reconnectInitial, settings_.reconnectMax);
     return false;
   }
   if (everConnected_) {
@@ -104,7 +101,7 @@ bool CompensationLoop::tryConnect(time_point now, CycleReport& report) noexcept 
   everConnected_ = true;
   controllerClock_.reset();
   roundTrips_.reset();  // another connection, perhaps another route
-  backoff_ = std::chrono::nanoseconds(0);
+  backoff_.connected();
   state_ = LoopState::Starting;
   synced_ = false;
   return true;

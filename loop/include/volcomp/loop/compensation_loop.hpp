@@ -52,6 +52,7 @@
 #include "volcomp/loop/limiter.hpp"
 #include "volcomp/loop/loop_settings.hpp"
 #include "volcomp/loop/ports.hpp"
+#include "volcomp/loop/reconnect_backoff.hpp"
 #include "volcomp/loop/saturation_monitor.hpp"
 #include "volcomp/loop/status.hpp"
 #include "volcomp/loop/window_minimum.hpp"
@@ -237,9 +238,8 @@ class CompensationLoop {
   /// What the controller may apply while writes have an unknown outcome.
   WriteEnvelope envelope_;
   SaturationMonitor saturation_;
+  ReconnectBackoff backoff_;
 
-  std::chrono::nanoseconds backoff_{0};
-  time_point nextConnectAttempt_{};
   time_point lastWriteTime_{};  // last acknowledged write
   time_point lastSentTime_{};   // last write sent (acknowledged or not)
   time_point lastWriteEnd_{};   // end of the last write transaction (its reply, or giving up)

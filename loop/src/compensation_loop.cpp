@@ -411,7 +411,7 @@ std::uint16_t CompensationLoop::statusWord(const Decision& d, const LimiterOutpu
 }
 
 void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
-                                    CycleReport& report) noexcept {
+                                    const LimiterState& before, CycleReport& report) noexcept {
   command_.status = status;
   ++command_.heartbeat;
   sentAny_ = true;
@@ -431,6 +431,9 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
   report.error = ec;
   if (isLinkError(ec)) {
     enterLinkLost(now, report);
+    // Nothing more is written until the read-back after reconnecting.
+    limiter_ = before;
+    command_.offsetMm = before.offsetMm;
     return;
   }
   // Timeout, mismatched or exception reply: the request may have been applied (a late answer)
@@ -439,6 +442,177 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
   ++counters_.unknownOutcomes;
   lastWriteFailed_ = true;
   report.unknownOutcome = true;
+  envelope_.widen(before.offsetMm, command_.offsetMm);
+}
+
+CycleReport CompensationLoop::finish(CycleReport& report) noexcept {
+  state_ = LoopState::Finished;
+  report.state = state_;
+  return report;
+}
+
+bool CompensationLoop::reconnect(time_point now, CycleReport& report) noexcept {
+  // Nothing can be written without the link; the PLC drops the offsets on the stalled
+  // heartbeat, so a stop does not wait for a reconnection.
+  if (stopRequested_) {
+    finish(report);
+    return false;
+  }
+  // The driver closed the link between cycles: same as a link error (counted, backoff).
+  if (everConnected_ && state_ != LoopState::LinkLost) enterLinkLost(now, report);
+  if (!tryConnect(now, report)) {
+    report.state = state_;
+    return false;
+  }
+  return true;
+}
+
+void CompensationLoop::armStopDeadline(time_point now) noexcept {
+  if (!stopRequested_ || stopDeadlineSet_) return;
+  stopDeadlineSet_ = true;
+  // Twice the ramp time plus a second: enough for the ramp with a few failed writes, and
+  // bounded, so that a controller refusing writes cannot hold the shutdown beyond the
+  // service's stop timeout.
+  const auto ramp =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(
+          2.0 * rampOutSeconds(settings_.limiter, limiter_.offsetMm) + 1.0));
+  stopDeadline_ = now + std::min(ramp, settings_.stopTimeout);
+}
+
+// One read transaction into sample_, with when the controller sampled it.
+std::error_code CompensationLoop::readInputs(time_point readAt, time_point requestAt) noexcept {
+  const std::error_code readError = port_.read(sample_);
+  // The controller answered somewhere inside the transaction: its middle is the best guess,
+  // unless the controller says when it latched the positions.
+  const time_point replyAt = clock_.now();
+  if (!readError) roundTrips_.push(replyAt - requestAt);
+  readMidAt_ = readAt + (replyAt - readAt) / 2;
+  sampledAt_ = readMidAt_;
+  sameLatch_ = false;
+  if (!readError && sample_.hasTimestamp) {
+    const std::uint64_t before = controllerClock_.stamps();
+    sampledAt_ = controllerClock_.latchedAt(sample_.timestampTicks, sample_.timestampTickS, replyAt,
+                                            2 * settings_.period);
+    sameLatch_ = controllerClock_.stamps() == before;
+  }
+  return readError;
+}
+
+// Returns false when the cycle ends with this read: the link is gone, or the loop is starting and
+// may write nothing until the applied offsets are known.
+bool CompensationLoop::takeReading(time_point readAt, std::error_code readError,
+                                   CycleReport& report) noexcept {
+  if (readError) {
+    report.error = readError;
+    if (isLinkError(readError)) {
+      enterLinkLost(readAt, report);
+      if (stopRequested_) finish(report);
+      return false;
+    }
+    ++counters_.readErrors;
+  }
+  const bool wasSynced = synced_;
+  if (!synced_ && (readError || !synchronise(readAt))) {
+    if (stopRequested_) {
+      finish(report);
+      return false;
+    }
+    state_ = LoopState::Starting;
+    report.state = state_;
+    report.fault = fault_;
+    return false;
+  }
+  if (wasSynced && !readError) {
+    const bool resumed = state_ == LoopState::Disabled && sample_.enable && sample_.homed;
+    followController(readAt, resumed);
+  }
+  return true;
+}
+
+// Read, decide, and check that the read is still fresh when the write is due; once more if it is
+// not (the process was stopped or starved between the two, or the read was slow).
+CompensationLoop::Reading CompensationLoop::readAndDecide(time_point now,
+                                                          CycleReport& report) noexcept {
+  Reading reading;
+  for (int attempt = 0; attempt < 2 && !reading.fresh; ++attempt) {
+    const time_point readAt = attempt == 0 ? now : clock_.now();
+    if (attempt > 0) ++counters_.lateReads;
+    report.error.clear();
+    const time_point requestAt = attempt == 0 ? clock_.now() : readAt;
+    const std::error_code readError = readInputs(readAt, requestAt);
+    if (!takeReading(readAt, readError, report)) {
+      reading.ended = true;
+      return reading;
+    }
+    reading.decision = decide(readAt, static_cast<bool>(readError), report);
+    reading.writeAt = clock_.now();
+    reading.fresh = reading.writeAt - readAt <= readToWriteBound(readAt);
+  }
+  return reading;
+}
+
+// A stop past its deadline finishes instead: it must not be held up by what withholds the write.
+CycleReport CompensationLoop::withhold(Withheld reason, LoopState state, FaultCode fault,
+                                       bool pastStopDeadline, CycleReport& report) noexcept {
+  if (pastStopDeadline) return finish(report);
+  ++counters_.withheldWrites;
+  report.withheld = reason;
+  state_ = state;
+  fault_ = fault;
+  report.fault = fault;
+  report.state = state_;
+  return report;
+}
+
+// dt: the time since the last write, so that a late cycle followed by an on-time one cannot put
+// two steps into one period; capped at the period, so that a gap allows no more than one step.
+// The controller applied the last write before its reply came back and applies this one after it
+// is sent; counting from the reply (plus the round trip of a transaction that was not held up)
+// equals counting from the send when the last write was not delayed, and takes off the delay when
+// it was (a write stuck in a queue that reaches the controller just before this one). A write
+// that got no reply counts from when the loop gave up on it.
+double CompensationLoop::stepSeconds(time_point writeAt) const noexcept {
+  if (!sentAny_) return seconds(settings_.period);
+  return seconds(std::clamp<std::chrono::nanoseconds>(
+      writeAt - lastWriteEnd_ + roundTrips_.min(), std::chrono::nanoseconds(0),
+      std::min(writeAt - lastSentTime_, settings_.period)));
+}
+
+// No value within one step of everything the controller may be applying: writing nothing is then
+// the only output that cannot jump.
+bool CompensationLoop::limit(time_point writeAt, Decision& d, const LimiterState& before,
+                             LimiterOutput& out) noexcept {
+  const double dtS = stepSeconds(writeAt);
+  out = limitStep(settings_.limiter, limiter_, d.targetMm, dtS);
+  if (out.invalidTarget && d.fault == FaultCode::None) {
+    d.fault = FaultCode::ModelInvalid;
+    d.next = stopRequested_ ? LoopState::Stopping : LoopState::Fault;
+  }
+  if (!envelope_.constrain(settings_.limiter, before, dtS, limiter_)) {
+    limiter_ = before;
+    return false;
+  }
+  if (limiter_.offsetMm != out.offsetMm) {
+    out.offsetMm = limiter_.offsetMm;
+    out.limited = true;
+  }
+  command_.offsetMm = out.offsetMm;
+  return true;
+}
+
+// The decided state is taken before the write, so that a write that finds the link gone leaves
+// the loop in LinkLost. The last write of a stop is zero offsets with status 0 ("inactive").
+bool CompensationLoop::send(time_point writeAt, const Decision& d, const LimiterState& before,
+                            const LimiterOutput& out, CycleReport& report) noexcept {
+  std::uint16_t status = statusWord(d, out, writeAt);
+  const bool lastOfStop = d.next == LoopState::Stopping && limiterAtZero(limiter_);
+  if (lastOfStop) status = 0;
+  if (d.fault != FaultCode::None) ++counters_.faultCycles;
+  fault_ = d.fault;
+  state_ = d.next;
+  report.fault = d.fault;
+  writeCommand(writeAt, status, before, report);
+  return lastOfStop;
 }
 
 CycleReport CompensationLoop::step() noexcept {
@@ -446,154 +620,31 @@ CycleReport CompensationLoop::step() noexcept {
   CycleReport report;
   report.previous = state_;
   ++counters_.cycles;
-
-  const auto finish = [&]() noexcept {
-    state_ = LoopState::Finished;
-    report.state = state_;
-    return report;
-  };
-  const auto withhold = [&](Withheld reason, LoopState state, FaultCode fault) noexcept {
-    ++counters_.withheldWrites;
-    report.withheld = reason;
-    state_ = state;
-    fault_ = fault;
-    report.fault = fault;
-    report.state = state_;
-    return report;
-  };
-  if (state_ == LoopState::Finished) return finish();
-
-  if (!port_.connected()) {
-    // Nothing can be written without the link; the PLC drops the offsets on the stalled
-    // heartbeat, so a stop does not wait for a reconnection.
-    if (stopRequested_) return finish();
-    // The driver closed the link between cycles: same as a link error (counted, backoff).
-    if (everConnected_ && state_ != LoopState::LinkLost) enterLinkLost(now, report);
-    if (!tryConnect(now, report)) {
-      report.state = state_;
-      return report;
-    }
-  }
-
-  if (stopRequested_ && !stopDeadlineSet_) {
-    stopDeadlineSet_ = true;
-    // Twice the ramp time plus a second: enough for the ramp with a few failed writes, and
-    // bounded, so that a controller refusing writes cannot hold the shutdown beyond the
-    // service's stop timeout.
-    const auto ramp =
-        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(
-            2.0 * rampOutSeconds(settings_.limiter, limiter_.offsetMm) + 1.0));
-    stopDeadline_ = now + std::min(ramp, settings_.stopTimeout);
-  }
+  if (state_ == LoopState::Finished) return finish(report);
+  if (!port_.connected() && !reconnect(now, report)) return report;
+  armStopDeadline(now);
   const bool pastStopDeadline = stopRequested_ && now >= stopDeadline_;
 
-  // Read, decide, and check that the read is still fresh when the write is due; once more if
-  // it is not (the process was stopped or starved between the two, or the read was slow).
-  Decision d;
-  time_point writeAt{};
-  bool fresh = false;
-  for (int attempt = 0; attempt < 2 && !fresh; ++attempt) {
-    const time_point readAt = attempt == 0 ? now : clock_.now();
-    if (attempt > 0) ++counters_.lateReads;
-    report.error.clear();
-    const time_point requestAt = attempt == 0 ? clock_.now() : readAt;
-    const std::error_code readError = port_.read(sample_);
-    // The controller answered somewhere inside the transaction: its middle is the best guess,
-    // unless the controller says when it latched the positions.
-    const time_point replyAt = clock_.now();
-    if (!readError) roundTrips_.push(replyAt - requestAt);
-    readMidAt_ = readAt + (replyAt - readAt) / 2;
-    sampledAt_ = readMidAt_;
-    sameLatch_ = false;
-    if (!readError && sample_.hasTimestamp) {
-      const std::uint64_t before = controllerClock_.stamps();
-      sampledAt_ = controllerClock_.latchedAt(sample_.timestampTicks, sample_.timestampTickS,
-                                              replyAt, 2 * settings_.period);
-      sameLatch_ = controllerClock_.stamps() == before;
-    }
-    if (readError) {
-      report.error = readError;
-      if (isLinkError(readError)) {
-        enterLinkLost(readAt, report);
-        return stopRequested_ ? finish() : report;
-      }
-      ++counters_.readErrors;
-    }
-    const bool wasSynced = synced_;
-    if (!synced_) {
-      if (readError || !synchronise(readAt)) {
-        // Starting: write nothing until the applied offsets are known.
-        if (stopRequested_) return finish();
-        state_ = LoopState::Starting;
-        report.state = state_;
-        report.fault = fault_;
-        return report;
-      }
-    }
-    if (wasSynced && !readError) {
-      const bool resumed = state_ == LoopState::Disabled && sample_.enable && sample_.homed;
-      followController(readAt, resumed);
-    }
-    d = decide(readAt, static_cast<bool>(readError), report);
-    writeAt = clock_.now();
-    fresh = writeAt - readAt <= readToWriteBound(readAt);
-  }
-  if (!fresh) {
-    if (pastStopDeadline) return finish();
-    return withhold(Withheld::StaleRead, state_, fault_);
+  Reading reading = readAndDecide(now, report);
+  if (reading.ended) return report;
+  Decision& d = reading.decision;
+  if (!reading.fresh) {
+    return withhold(Withheld::StaleRead, state_, fault_, pastStopDeadline, report);
   }
   if (d.readbackOutside) {
-    if (pastStopDeadline) return finish();
-    return withhold(Withheld::ReadbackOutOfRange, LoopState::Fault, d.fault);
+    return withhold(Withheld::ReadbackOutOfRange, LoopState::Fault, d.fault, pastStopDeadline,
+                    report);
   }
 
-  // dt: the time since the last write, so that a late cycle followed by an on-time one cannot
-  // put two steps into one period; capped at the period, so that a gap allows no more than one
-  // step. The controller applied the last write before its reply came back and applies this one
-  // after it is sent; counting from the reply (plus the round trip of a transaction that was not
-  // held up) equals counting from the send when the last write was not delayed, and takes off
-  // the delay when it was (a write stuck in a queue that reaches the controller just before this
-  // one). A write that got no reply counts from when the loop gave up on it.
-  const double dtS =
-      sentAny_ ? seconds(std::clamp<std::chrono::nanoseconds>(
-                     writeAt - lastWriteEnd_ + roundTrips_.min(), std::chrono::nanoseconds(0),
-                     std::min(writeAt - lastSentTime_, settings_.period)))
-               : seconds(settings_.period);
   const LimiterState before = limiter_;
-  LimiterOutput out = limitStep(settings_.limiter, limiter_, d.targetMm, dtS);
-  if (out.invalidTarget && d.fault == FaultCode::None) {
-    d.fault = FaultCode::ModelInvalid;
-    d.next = stopRequested_ ? LoopState::Stopping : LoopState::Fault;
+  LimiterOutput out;
+  if (!limit(reading.writeAt, d, before, out)) {
+    return withhold(Withheld::UnknownOutcome, state_, fault_, pastStopDeadline, report);
   }
-  if (!envelope_.constrain(settings_.limiter, before, dtS, limiter_)) {
-    limiter_ = before;
-    if (pastStopDeadline) return finish();
-    return withhold(Withheld::UnknownOutcome, state_, fault_);
-  }
-  if (limiter_.offsetMm != out.offsetMm) {
-    out.offsetMm = limiter_.offsetMm;
-    out.limited = true;
-  }
-  command_.offsetMm = out.offsetMm;
+  const bool lastOfStop = send(reading.writeAt, d, before, out, report);
 
-  std::uint16_t status = statusWord(d, out, writeAt);
-  const bool lastOfStop = d.next == LoopState::Stopping && limiterAtZero(limiter_);
-  if (lastOfStop) status = 0;  // zero offsets, status inactive
-
-  if (d.fault != FaultCode::None) ++counters_.faultCycles;
-  fault_ = d.fault;
-  state_ = d.next;
-  report.fault = d.fault;
-  writeCommand(writeAt, status, report);
-  if (report.unknownOutcome) {
-    envelope_.widen(before.offsetMm, command_.offsetMm);
-  } else if (!report.wrote) {
-    // The link is gone: nothing more is written until the read-back after reconnecting.
-    limiter_ = before;
-    command_.offsetMm = before.offsetMm;
-  }
   if (state_ == LoopState::Stopping && ((lastOfStop && report.wrote) || pastStopDeadline)) {
-    return finish();
+    return finish(report);
   }
   report.state = state_;
   report.goodCycle = report.wrote && d.fault == FaultCode::None &&

@@ -186,8 +186,37 @@ class CompensationLoop {
     bool readbackOutside = false;
   };
 
+  /// What the read phase of a cycle brought.
+  struct Reading {
+    bool ended = false;  ///< the cycle ends here, writing nothing (link lost, starting, finished)
+    bool fresh = false;  ///< the read was still fresh when the write was due
+    Decision decision;
+    time_point writeAt{};
+  };
+
+  // The phases of step(), in order.
+  /// The link is down: try to connect (with backoff). False when the cycle ends here.
+  bool reconnect(time_point now, CycleReport& report) noexcept;
+  /// The first cycle of a stop sets how long the ramp-out may take.
+  void armStopDeadline(time_point now) noexcept;
+  /// Read and decide, and read again when the read is no longer fresh when the write is due.
+  Reading readAndDecide(time_point now, CycleReport& report) noexcept;
+  /// The limiter step towards the decided target, kept within the write envelope. False when no
+  /// value may be written (the limiter is left as `before`).
+  bool limit(time_point writeAt, Decision& d, const LimiterState& before,
+             LimiterOutput& out) noexcept;
+  /// Status word, the decided state and the write. True for the last write of a stop.
+  bool send(time_point writeAt, const Decision& d, const LimiterState& before,
+            const LimiterOutput& out, CycleReport& report) noexcept;
+  // How a cycle ends early: finished, or without a write.
+  CycleReport finish(CycleReport& report) noexcept;
+  CycleReport withhold(Withheld reason, LoopState state, FaultCode fault, bool pastStopDeadline,
+                       CycleReport& report) noexcept;
+
   void enterLinkLost(time_point now, CycleReport& report) noexcept;
   bool tryConnect(time_point now, CycleReport& report) noexcept;
+  std::error_code readInputs(time_point readAt, time_point requestAt) noexcept;
+  bool takeReading(time_point readAt, std::error_code readError, CycleReport& report) noexcept;
   bool synchronise(time_point now) noexcept;
   void followController(time_point now, bool resumed) noexcept;
   void adopt(const std::array<double, 3>& appliedMm) noexcept;
@@ -201,8 +230,10 @@ class CompensationLoop {
   void applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept;
   bool readbackOutOfRange() const noexcept;
   std::chrono::nanoseconds readToWriteBound(time_point readAt) const noexcept;
+  double stepSeconds(time_point writeAt) const noexcept;
   std::uint16_t statusWord(const Decision& d, const LimiterOutput& out, time_point now) noexcept;
-  void writeCommand(time_point now, std::uint16_t status, CycleReport& report) noexcept;
+  void writeCommand(time_point now, std::uint16_t status, const LimiterState& before,
+                    CycleReport& report) noexcept;
 
   ControllerPort& port_;
   const Clock& clock_;

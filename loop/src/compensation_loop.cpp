@@ -37,20 +37,6 @@ std::string_view stateName(LoopState state) noexcept {
   return "unknown";
 }
 
-std::string_view withheldName(Withheld reason) noexcept {
-  switch (reason) {
-    case Withheld::None:
-      return "none";
-    case Withheld::StaleRead:
-      return "stale read";
-    case Withheld::ReadbackOutOfRange:
-      return "read-back outside the band";
-    case Withheld::UnknownOutcome:
-      return "unknown write outcome";
-  }
-  return "unknown";
-}
-
 CompensationLoop::CompensationLoop(ControllerPort& port, const Clock& clock,
                                    std::shared_ptr<CompensationModel> model,
                                    const LoopSettings& settings)
@@ -86,7 +72,7 @@ void CompensationLoop::setSettings(const LoopSettings& settings) noexcept {
   settings_.offsetReadback = readback;
   settings_.plcZeroAfter = plcZeroAfter;
   tracker_.setHysteresis(settings_.directionHysteresisMm);
-  if (!settings_.faultLatch) latched_ = FaultCode::None;
+  if (!settings_.faultLatch) latch_.release();
 }
 
 void CompensationLoop::enterLinkLost(time_point now, CycleReport& report) noexcept {
@@ -94,21 +80,18 @@ void CompensationLoop::enterLinkLost(time_point now, CycleReport& report) noexce
   ++counters_.linkLosses;
   state_ = LoopState::LinkLost;
   synced_ = false;
-  backoff_ = settings_.reconnectInitial;
-  nextConnectAttempt_ = now + backoff_;
+  backoff_.linkLost(now, settings_.reconnectInitial);
   report.state = state_;
 }
 
 bool CompensationLoop::tryConnect(time_point now, CycleReport& report) noexcept {
-  if (now < nextConnectAttempt_) return false;
+  if (!backoff_.due(now)) return false;
   ++counters_.connectAttempts;
   const std::error_code ec = port_.connect();
   if (ec) {
     report.error = ec;
     state_ = LoopState::LinkLost;
-    backoff_ = backoff_.count() == 0 ? settings_.reconnectInitial
-                                     : std::min(2 * backoff_, settings_.reconnectMax);
-    nextConnectAttempt_ = now + backoff_;
+    backoff_.attemptFailed(now, settings_.reconnectInitial, settings_.reconnectMax);
     return false;
   }
   if (everConnected_) {
@@ -118,7 +101,7 @@ bool CompensationLoop::tryConnect(time_point now, CycleReport& report) noexcept 
   everConnected_ = true;
   controllerClock_.reset();
   roundTrips_.reset();  // another connection, perhaps another route
-  backoff_ = std::chrono::nanoseconds(0);
+  backoff_.connected();
   state_ = LoopState::Starting;
   synced_ = false;
   return true;
@@ -128,7 +111,7 @@ bool CompensationLoop::tryConnect(time_point now, CycleReport& report) noexcept 
 void CompensationLoop::adopt(const std::array<double, 3>& appliedMm) noexcept {
   resetLimiter(limiter_, appliedMm);
   command_.offsetMm = limiter_.offsetMm;
-  uncertain_ = false;
+  envelope_.clear();
 }
 
 bool CompensationLoop::synchronise(time_point now) noexcept {
@@ -155,8 +138,7 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
   lastInputChange_ = now;
   lastSequence_ = sample_.sequence;
   lastPositionMm_ = sample_.positionMm;
-  lastEnable_ = sample_.enable;
-  lastAck_ = sample_.hasFaultAck && sample_.faultAck;
+  latch_.seed(sample_.enable, sample_.hasFaultAck && sample_.faultAck);
   fault_ = FaultCode::None;
   lastWriteFailed_ = false;  // a failure before the resynchronisation says nothing about now
   synced_ = true;
@@ -239,9 +221,7 @@ FaultCode CompensationLoop::checkInputs(time_point now, std::array<double, 3>& q
   return FaultCode::None;
 }
 
-// The model's offset at q, and sustained limiting: the clamp (a target outside the band, not the
-// slew towards it) holding an axis for longer than the warning time sets SATURATED, longer than
-// the fault time is a fault of its own.
+// The model's offset at q, and sustained limiting, which only a valid target can show.
 void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>& qMm, bool newData,
                                      Decision& d, CycleReport& report) noexcept {
   const model::Directions directions = tracker_.update(qMm);
@@ -259,28 +239,15 @@ void CompensationLoop::evaluateModel(time_point now, const std::array<double, 3>
   }
   d.targetMm = result.offsetMm;
   d.evaluated = true;
-  int longestAxis = -1;
-  std::chrono::nanoseconds longest{0};
-  for (std::size_t k = 0; k < 3; ++k) {
-    const bool clamped = std::abs(d.targetMm[k]) > settings_.limiter.axes[k].maxOffsetMm;
-    if (clamped && !clamping_[k]) clampSince_[k] = now;
-    clamping_[k] = clamped;
-    if (clamped && now - clampSince_[k] >= longest) {
-      longest = now - clampSince_[k];
-      longestAxis = static_cast<int>(k);
-    }
-  }
-  const auto reached = [&](std::chrono::nanoseconds threshold) {
-    return longestAxis >= 0 && threshold.count() > 0 && longest >= threshold;
-  };
-  d.saturated = reached(settings_.saturationWarning);
-  if (d.saturated && !saturationWarned_) {
+  const Saturation saturation = saturation_.update(
+      now, d.targetMm, settings_.limiter, settings_.saturationWarning, settings_.saturationFault);
+  d.saturated = saturation.saturated;
+  if (saturation.warningStarted) {
     ++counters_.saturationWarnings;
-    report.saturationAxis = longestAxis;
-    report.saturationRequestedMm = d.targetMm[static_cast<std::size_t>(longestAxis)];
+    report.saturationAxis = saturation.axis;
+    report.saturationRequestedMm = saturation.requestedMm;
   }
-  saturationWarned_ = d.saturated;
-  if (reached(settings_.saturationFault)) d.fault = FaultCode::SustainedLimit;
+  if (saturation.fault) d.fault = FaultCode::SustainedLimit;
 }
 
 // The tracker follows the measured positions only: what the prediction assumes for the hold (an
@@ -343,20 +310,11 @@ ModelOffset CompensationLoop::holdOffset(const HoldPrediction& hold) noexcept {
 // A latched fault stays until the controller acknowledges it: a rising edge of its fault-ack
 // input, or its enable input switched off (the enable toggle). An edge counts only on a read.
 void CompensationLoop::applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept {
-  if (!readFailed) {
-    const bool ack = sample_.hasFaultAck && sample_.faultAck;
-    if (latched_ != FaultCode::None && ((ack && !lastAck_) || (!sample_.enable && lastEnable_))) {
-      latched_ = FaultCode::None;
-      report.acknowledged = true;
-    }
-    lastAck_ = ack;
-    lastEnable_ = sample_.enable;
+  // Only set, never reset: a cycle that reads twice reports an acknowledge of either read.
+  if (!readFailed && latch_.acknowledge(sample_.enable, sample_.hasFaultAck && sample_.faultAck)) {
+    report.acknowledged = true;
   }
-  if (d.fault != FaultCode::None) {
-    if (settings_.faultLatch && latchable(d.fault)) latched_ = d.fault;
-  } else if (latched_ != FaultCode::None) {
-    d.fault = latched_;
-  }
+  d.fault = latch_.apply(d.fault, settings_.faultLatch);
 }
 
 CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFailed,
@@ -384,8 +342,7 @@ CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFai
   }
   if (!d.evaluated) {
     estimator_.reset();
-    clamping_ = {};
-    saturationWarned_ = false;
+    saturation_.reset();
   }
   if (stopRequested_) {
     d.next = LoopState::Stopping;
@@ -421,27 +378,6 @@ std::chrono::nanoseconds CompensationLoop::readToWriteBound(time_point readAt) c
   return silent ? std::min(settings_.readToWriteMax, settings_.period) : settings_.readToWriteMax;
 }
 
-// After writes with an unknown outcome the controller applies some value of the envelope: the
-// output must be within one step (max_rate x dt) of all of them. The limiter stepped from the
-// last attempted value, which is inside the envelope, so the window is never empty unless dt
-// shrank below half the step that made the envelope. Returns false then (write nothing).
-bool CompensationLoop::constrainToEnvelope(LimiterState& state, const LimiterState& before,
-                                           double dtS) const noexcept {
-  if (!uncertain_) return true;
-  LimiterState constrained = state;
-  for (std::size_t k = 0; k < 3; ++k) {
-    const double stepMm = settings_.limiter.axes[k].maxRateMmS * dtS;
-    const double lo = envelopeHighMm_[k] - stepMm;
-    const double hi = envelopeLowMm_[k] + stepMm;
-    if (lo > hi + 1e-12) return false;
-    constrained.offsetMm[k] = std::clamp(state.offsetMm[k], lo, std::max(lo, hi));
-    constrained.velocityMmS[k] =
-        dtS > 0.0 ? (constrained.offsetMm[k] - before.offsetMm[k]) / dtS : 0.0;
-  }
-  state = constrained;
-  return true;
-}
-
 std::uint16_t CompensationLoop::statusWord(const Decision& d, const LimiterOutput& out,
                                            time_point now) noexcept {
   std::uint16_t status = 0;
@@ -470,12 +406,12 @@ std::uint16_t CompensationLoop::statusWord(const Decision& d, const LimiterOutpu
   if (now < reloadedUntil_) status |= status::kModelReloaded;
   if (reloadFailed_) status |= status::kReloadFailed;
   if (d.saturated) status |= status::kSaturated;
-  if (latched_ != FaultCode::None) status |= status::kLatched;
+  if (latch_.holding()) status |= status::kLatched;
   return status;
 }
 
 void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
-                                    CycleReport& report) noexcept {
+                                    const LimiterState& before, CycleReport& report) noexcept {
   command_.status = status;
   ++command_.heartbeat;
   sentAny_ = true;
@@ -488,13 +424,16 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
     ++counters_.writes;
     lastWriteTime_ = now;
     lastWriteFailed_ = false;
-    uncertain_ = false;
+    envelope_.clear();
     report.wrote = true;
     return;
   }
   report.error = ec;
   if (isLinkError(ec)) {
     enterLinkLost(now, report);
+    // Nothing more is written until the read-back after reconnecting.
+    limiter_ = before;
+    command_.offsetMm = before.offsetMm;
     return;
   }
   // Timeout, mismatched or exception reply: the request may have been applied (a late answer)
@@ -503,6 +442,177 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
   ++counters_.unknownOutcomes;
   lastWriteFailed_ = true;
   report.unknownOutcome = true;
+  envelope_.widen(before.offsetMm, command_.offsetMm);
+}
+
+CycleReport CompensationLoop::finish(CycleReport& report) noexcept {
+  state_ = LoopState::Finished;
+  report.state = state_;
+  return report;
+}
+
+bool CompensationLoop::reconnect(time_point now, CycleReport& report) noexcept {
+  // Nothing can be written without the link; the PLC drops the offsets on the stalled
+  // heartbeat, so a stop does not wait for a reconnection.
+  if (stopRequested_) {
+    finish(report);
+    return false;
+  }
+  // The driver closed the link between cycles: same as a link error (counted, backoff).
+  if (everConnected_ && state_ != LoopState::LinkLost) enterLinkLost(now, report);
+  if (!tryConnect(now, report)) {
+    report.state = state_;
+    return false;
+  }
+  return true;
+}
+
+void CompensationLoop::armStopDeadline(time_point now) noexcept {
+  if (!stopRequested_ || stopDeadlineSet_) return;
+  stopDeadlineSet_ = true;
+  // Twice the ramp time plus a second: enough for the ramp with a few failed writes, and
+  // bounded, so that a controller refusing writes cannot hold the shutdown beyond the
+  // service's stop timeout.
+  const auto ramp =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(
+          2.0 * rampOutSeconds(settings_.limiter, limiter_.offsetMm) + 1.0));
+  stopDeadline_ = now + std::min(ramp, settings_.stopTimeout);
+}
+
+// One read transaction into sample_, with when the controller sampled it.
+std::error_code CompensationLoop::readInputs(time_point readAt, time_point requestAt) noexcept {
+  const std::error_code readError = port_.read(sample_);
+  // The controller answered somewhere inside the transaction: its middle is the best guess,
+  // unless the controller says when it latched the positions.
+  const time_point replyAt = clock_.now();
+  if (!readError) roundTrips_.push(replyAt - requestAt);
+  readMidAt_ = readAt + (replyAt - readAt) / 2;
+  sampledAt_ = readMidAt_;
+  sameLatch_ = false;
+  if (!readError && sample_.hasTimestamp) {
+    const std::uint64_t before = controllerClock_.stamps();
+    sampledAt_ = controllerClock_.latchedAt(sample_.timestampTicks, sample_.timestampTickS, replyAt,
+                                            2 * settings_.period);
+    sameLatch_ = controllerClock_.stamps() == before;
+  }
+  return readError;
+}
+
+// Returns false when the cycle ends with this read: the link is gone, or the loop is starting and
+// may write nothing until the applied offsets are known.
+bool CompensationLoop::takeReading(time_point readAt, std::error_code readError,
+                                   CycleReport& report) noexcept {
+  if (readError) {
+    report.error = readError;
+    if (isLinkError(readError)) {
+      enterLinkLost(readAt, report);
+      if (stopRequested_) finish(report);
+      return false;
+    }
+    ++counters_.readErrors;
+  }
+  const bool wasSynced = synced_;
+  if (!synced_ && (readError || !synchronise(readAt))) {
+    if (stopRequested_) {
+      finish(report);
+      return false;
+    }
+    state_ = LoopState::Starting;
+    report.state = state_;
+    report.fault = fault_;
+    return false;
+  }
+  if (wasSynced && !readError) {
+    const bool resumed = state_ == LoopState::Disabled && sample_.enable && sample_.homed;
+    followController(readAt, resumed);
+  }
+  return true;
+}
+
+// Read, decide, and check that the read is still fresh when the write is due; once more if it is
+// not (the process was stopped or starved between the two, or the read was slow).
+CompensationLoop::Reading CompensationLoop::readAndDecide(time_point now,
+                                                          CycleReport& report) noexcept {
+  Reading reading;
+  for (int attempt = 0; attempt < 2 && !reading.fresh; ++attempt) {
+    const time_point readAt = attempt == 0 ? now : clock_.now();
+    if (attempt > 0) ++counters_.lateReads;
+    report.error.clear();
+    const time_point requestAt = attempt == 0 ? clock_.now() : readAt;
+    const std::error_code readError = readInputs(readAt, requestAt);
+    if (!takeReading(readAt, readError, report)) {
+      reading.ended = true;
+      return reading;
+    }
+    reading.decision = decide(readAt, static_cast<bool>(readError), report);
+    reading.writeAt = clock_.now();
+    reading.fresh = reading.writeAt - readAt <= readToWriteBound(readAt);
+  }
+  return reading;
+}
+
+// A stop past its deadline finishes instead: it must not be held up by what withholds the write.
+CycleReport CompensationLoop::withhold(Withheld reason, LoopState state, FaultCode fault,
+                                       bool pastStopDeadline, CycleReport& report) noexcept {
+  if (pastStopDeadline) return finish(report);
+  ++counters_.withheldWrites;
+  report.withheld = reason;
+  state_ = state;
+  fault_ = fault;
+  report.fault = fault;
+  report.state = state_;
+  return report;
+}
+
+// dt: the time since the last write, so that a late cycle followed by an on-time one cannot put
+// two steps into one period; capped at the period, so that a gap allows no more than one step.
+// The controller applied the last write before its reply came back and applies this one after it
+// is sent; counting from the reply (plus the round trip of a transaction that was not held up)
+// equals counting from the send when the last write was not delayed, and takes off the delay when
+// it was (a write stuck in a queue that reaches the controller just before this one). A write
+// that got no reply counts from when the loop gave up on it.
+double CompensationLoop::stepSeconds(time_point writeAt) const noexcept {
+  if (!sentAny_) return seconds(settings_.period);
+  return seconds(std::clamp<std::chrono::nanoseconds>(
+      writeAt - lastWriteEnd_ + roundTrips_.min(), std::chrono::nanoseconds(0),
+      std::min(writeAt - lastSentTime_, settings_.period)));
+}
+
+// No value within one step of everything the controller may be applying: writing nothing is then
+// the only output that cannot jump.
+bool CompensationLoop::limit(time_point writeAt, Decision& d, const LimiterState& before,
+                             LimiterOutput& out) noexcept {
+  const double dtS = stepSeconds(writeAt);
+  out = limitStep(settings_.limiter, limiter_, d.targetMm, dtS);
+  if (out.invalidTarget && d.fault == FaultCode::None) {
+    d.fault = FaultCode::ModelInvalid;
+    d.next = stopRequested_ ? LoopState::Stopping : LoopState::Fault;
+  }
+  if (!envelope_.constrain(settings_.limiter, before, dtS, limiter_)) {
+    limiter_ = before;
+    return false;
+  }
+  if (limiter_.offsetMm != out.offsetMm) {
+    out.offsetMm = limiter_.offsetMm;
+    out.limited = true;
+  }
+  command_.offsetMm = out.offsetMm;
+  return true;
+}
+
+// The decided state is taken before the write, so that a write that finds the link gone leaves
+// the loop in LinkLost. The last write of a stop is zero offsets with status 0 ("inactive").
+bool CompensationLoop::send(time_point writeAt, const Decision& d, const LimiterState& before,
+                            const LimiterOutput& out, CycleReport& report) noexcept {
+  std::uint16_t status = statusWord(d, out, writeAt);
+  const bool lastOfStop = d.next == LoopState::Stopping && limiterAtZero(limiter_);
+  if (lastOfStop) status = 0;
+  if (d.fault != FaultCode::None) ++counters_.faultCycles;
+  fault_ = d.fault;
+  state_ = d.next;
+  report.fault = d.fault;
+  writeCommand(writeAt, status, before, report);
+  return lastOfStop;
 }
 
 CycleReport CompensationLoop::step() noexcept {
@@ -510,163 +620,31 @@ CycleReport CompensationLoop::step() noexcept {
   CycleReport report;
   report.previous = state_;
   ++counters_.cycles;
-
-  const auto finish = [&]() noexcept {
-    state_ = LoopState::Finished;
-    report.state = state_;
-    return report;
-  };
-  const auto withhold = [&](Withheld reason, LoopState state, FaultCode fault) noexcept {
-    ++counters_.withheldWrites;
-    report.withheld = reason;
-    state_ = state;
-    fault_ = fault;
-    report.fault = fault;
-    report.state = state_;
-    return report;
-  };
-  if (state_ == LoopState::Finished) return finish();
-
-  if (!port_.connected()) {
-    // Nothing can be written without the link; the PLC drops the offsets on the stalled
-    // heartbeat, so a stop does not wait for a reconnection.
-    if (stopRequested_) return finish();
-    // The driver closed the link between cycles: same as a link error (counted, backoff).
-    if (everConnected_ && state_ != LoopState::LinkLost) enterLinkLost(now, report);
-    if (!tryConnect(now, report)) {
-      report.state = state_;
-      return report;
-    }
-  }
-
-  if (stopRequested_ && !stopDeadlineSet_) {
-    stopDeadlineSet_ = true;
-    // Twice the ramp time plus a second: enough for the ramp with a few failed writes, and
-    // bounded, so that a controller refusing writes cannot hold the shutdown beyond the
-    // service's stop timeout.
-    const auto ramp =
-        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(
-            2.0 * rampOutSeconds(settings_.limiter, limiter_.offsetMm) + 1.0));
-    stopDeadline_ = now + std::min(ramp, settings_.stopTimeout);
-  }
+  if (state_ == LoopState::Finished) return finish(report);
+  if (!port_.connected() && !reconnect(now, report)) return report;
+  armStopDeadline(now);
   const bool pastStopDeadline = stopRequested_ && now >= stopDeadline_;
 
-  // Read, decide, and check that the read is still fresh when the write is due; once more if
-  // it is not (the process was stopped or starved between the two, or the read was slow).
-  Decision d;
-  time_point writeAt{};
-  bool fresh = false;
-  for (int attempt = 0; attempt < 2 && !fresh; ++attempt) {
-    const time_point readAt = attempt == 0 ? now : clock_.now();
-    if (attempt > 0) ++counters_.lateReads;
-    report.error.clear();
-    const time_point requestAt = attempt == 0 ? clock_.now() : readAt;
-    const std::error_code readError = port_.read(sample_);
-    // The controller answered somewhere inside the transaction: its middle is the best guess,
-    // unless the controller says when it latched the positions.
-    const time_point replyAt = clock_.now();
-    if (!readError) roundTrips_.push(replyAt - requestAt);
-    readMidAt_ = readAt + (replyAt - readAt) / 2;
-    sampledAt_ = readMidAt_;
-    sameLatch_ = false;
-    if (!readError && sample_.hasTimestamp) {
-      const std::uint64_t before = controllerClock_.stamps();
-      sampledAt_ = controllerClock_.latchedAt(sample_.timestampTicks, sample_.timestampTickS,
-                                              replyAt, 2 * settings_.period);
-      sameLatch_ = controllerClock_.stamps() == before;
-    }
-    if (readError) {
-      report.error = readError;
-      if (isLinkError(readError)) {
-        enterLinkLost(readAt, report);
-        return stopRequested_ ? finish() : report;
-      }
-      ++counters_.readErrors;
-    }
-    const bool wasSynced = synced_;
-    if (!synced_) {
-      if (readError || !synchronise(readAt)) {
-        // Starting: write nothing until the applied offsets are known.
-        if (stopRequested_) return finish();
-        state_ = LoopState::Starting;
-        report.state = state_;
-        report.fault = fault_;
-        return report;
-      }
-    }
-    if (wasSynced && !readError) {
-      const bool resumed = state_ == LoopState::Disabled && sample_.enable && sample_.homed;
-      followController(readAt, resumed);
-    }
-    d = decide(readAt, static_cast<bool>(readError), report);
-    writeAt = clock_.now();
-    fresh = writeAt - readAt <= readToWriteBound(readAt);
-  }
-  if (!fresh) {
-    if (pastStopDeadline) return finish();
-    return withhold(Withheld::StaleRead, state_, fault_);
+  Reading reading = readAndDecide(now, report);
+  if (reading.ended) return report;
+  Decision& d = reading.decision;
+  if (!reading.fresh) {
+    return withhold(Withheld::StaleRead, state_, fault_, pastStopDeadline, report);
   }
   if (d.readbackOutside) {
-    if (pastStopDeadline) return finish();
-    return withhold(Withheld::ReadbackOutOfRange, LoopState::Fault, d.fault);
+    return withhold(Withheld::ReadbackOutOfRange, LoopState::Fault, d.fault, pastStopDeadline,
+                    report);
   }
 
-  // dt: the time since the last write, so that a late cycle followed by an on-time one cannot
-  // put two steps into one period; capped at the period, so that a gap allows no more than one
-  // step. The controller applied the last write before its reply came back and applies this one
-  // after it is sent; counting from the reply (plus the round trip of a transaction that was not
-  // held up) equals counting from the send when the last write was not delayed, and takes off
-  // the delay when it was (a write stuck in a queue that reaches the controller just before this
-  // one). A write that got no reply counts from when the loop gave up on it.
-  const double dtS =
-      sentAny_ ? seconds(std::clamp<std::chrono::nanoseconds>(
-                     writeAt - lastWriteEnd_ + roundTrips_.min(), std::chrono::nanoseconds(0),
-                     std::min(writeAt - lastSentTime_, settings_.period)))
-               : seconds(settings_.period);
   const LimiterState before = limiter_;
-  LimiterOutput out = limitStep(settings_.limiter, limiter_, d.targetMm, dtS);
-  if (out.invalidTarget && d.fault == FaultCode::None) {
-    d.fault = FaultCode::ModelInvalid;
-    d.next = stopRequested_ ? LoopState::Stopping : LoopState::Fault;
+  LimiterOutput out;
+  if (!limit(reading.writeAt, d, before, out)) {
+    return withhold(Withheld::UnknownOutcome, state_, fault_, pastStopDeadline, report);
   }
-  if (!constrainToEnvelope(limiter_, before, dtS)) {
-    limiter_ = before;
-    if (pastStopDeadline) return finish();
-    return withhold(Withheld::UnknownOutcome, state_, fault_);
-  }
-  if (limiter_.offsetMm != out.offsetMm) {
-    out.offsetMm = limiter_.offsetMm;
-    out.limited = true;
-  }
-  command_.offsetMm = out.offsetMm;
+  const bool lastOfStop = send(reading.writeAt, d, before, out, report);
 
-  std::uint16_t status = statusWord(d, out, writeAt);
-  const bool lastOfStop = d.next == LoopState::Stopping && limiterAtZero(limiter_);
-  if (lastOfStop) status = 0;  // zero offsets, status inactive
-
-  if (d.fault != FaultCode::None) ++counters_.faultCycles;
-  fault_ = d.fault;
-  state_ = d.next;
-  report.fault = d.fault;
-  // The envelope of what the controller may apply, should this write's outcome be unknown.
-  const std::array<double, 3> acknowledged = before.offsetMm;
-  const bool wasUncertain = uncertain_;
-  writeCommand(writeAt, status, report);
-  if (report.unknownOutcome) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      const double lo = wasUncertain ? envelopeLowMm_[k] : acknowledged[k];
-      const double hi = wasUncertain ? envelopeHighMm_[k] : acknowledged[k];
-      envelopeLowMm_[k] = std::min(lo, command_.offsetMm[k]);
-      envelopeHighMm_[k] = std::max(hi, command_.offsetMm[k]);
-    }
-    uncertain_ = true;
-  } else if (!report.wrote) {
-    // The link is gone: nothing more is written until the read-back after reconnecting.
-    limiter_ = before;
-    command_.offsetMm = before.offsetMm;
-  }
   if (state_ == LoopState::Stopping && ((lastOfStop && report.wrote) || pastStopDeadline)) {
-    return finish();
+    return finish(report);
   }
   report.state = state_;
   report.goodCycle = report.wrote && d.fault == FaultCode::None &&

@@ -47,12 +47,16 @@
 #include "volcomp/loop/compensation_model.hpp"
 #include "volcomp/loop/controller_clock.hpp"
 #include "volcomp/loop/direction_tracker.hpp"
+#include "volcomp/loop/fault_latch.hpp"
 #include "volcomp/loop/latency_compensation.hpp"
 #include "volcomp/loop/limiter.hpp"
 #include "volcomp/loop/loop_settings.hpp"
 #include "volcomp/loop/ports.hpp"
+#include "volcomp/loop/reconnect_backoff.hpp"
+#include "volcomp/loop/saturation_monitor.hpp"
 #include "volcomp/loop/status.hpp"
 #include "volcomp/loop/window_minimum.hpp"
+#include "volcomp/loop/write_envelope.hpp"
 
 namespace volcomp::loop {
 
@@ -79,8 +83,6 @@ enum class Withheld : std::uint8_t {
   /// controller may be applying (only when dt shrank below half a period).
   UnknownOutcome,
 };
-
-std::string_view withheldName(Withheld reason) noexcept;
 
 /// What one cycle did.
 struct CycleReport {
@@ -158,11 +160,10 @@ class CompensationLoop {
   LoopState state() const noexcept { return state_; }
   FaultCode fault() const noexcept { return fault_; }
   /// The fault held by the latch until acknowledged (None when nothing is latched).
-  FaultCode latchedFault() const noexcept { return latched_; }
+  FaultCode latchedFault() const noexcept { return latch_.held(); }
   /// The inputs of the last successful read.
   const AxisSample& lastSample() const noexcept { return sample_; }
-  /// Status word and offsets of the last command built (written or attempted).
-  std::uint16_t lastStatus() const noexcept { return command_.status; }
+  /// Offsets of the last command built (written or attempted).
   const std::array<double, 3>& lastOffsetMm() const noexcept { return command_.offsetMm; }
   std::uint16_t heartbeat() const noexcept { return command_.heartbeat; }
   const LoopCounters& counters() const noexcept { return counters_; }
@@ -185,8 +186,37 @@ class CompensationLoop {
     bool readbackOutside = false;
   };
 
+  /// What the read phase of a cycle brought.
+  struct Reading {
+    bool ended = false;  ///< the cycle ends here, writing nothing (link lost, starting, finished)
+    bool fresh = false;  ///< the read was still fresh when the write was due
+    Decision decision;
+    time_point writeAt{};
+  };
+
+  // The phases of step(), in order.
+  /// The link is down: try to connect (with backoff). False when the cycle ends here.
+  bool reconnect(time_point now, CycleReport& report) noexcept;
+  /// The first cycle of a stop sets how long the ramp-out may take.
+  void armStopDeadline(time_point now) noexcept;
+  /// Read and decide, and read again when the read is no longer fresh when the write is due.
+  Reading readAndDecide(time_point now, CycleReport& report) noexcept;
+  /// The limiter step towards the decided target, kept within the write envelope. False when no
+  /// value may be written (the limiter is left as `before`).
+  bool limit(time_point writeAt, Decision& d, const LimiterState& before,
+             LimiterOutput& out) noexcept;
+  /// Status word, the decided state and the write. True for the last write of a stop.
+  bool send(time_point writeAt, const Decision& d, const LimiterState& before,
+            const LimiterOutput& out, CycleReport& report) noexcept;
+  // How a cycle ends early: finished, or without a write.
+  CycleReport finish(CycleReport& report) noexcept;
+  CycleReport withhold(Withheld reason, LoopState state, FaultCode fault, bool pastStopDeadline,
+                       CycleReport& report) noexcept;
+
   void enterLinkLost(time_point now, CycleReport& report) noexcept;
   bool tryConnect(time_point now, CycleReport& report) noexcept;
+  std::error_code readInputs(time_point readAt, time_point requestAt) noexcept;
+  bool takeReading(time_point readAt, std::error_code readError, CycleReport& report) noexcept;
   bool synchronise(time_point now) noexcept;
   void followController(time_point now, bool resumed) noexcept;
   void adopt(const std::array<double, 3>& appliedMm) noexcept;
@@ -200,10 +230,10 @@ class CompensationLoop {
   void applyLatch(bool readFailed, Decision& d, CycleReport& report) noexcept;
   bool readbackOutOfRange() const noexcept;
   std::chrono::nanoseconds readToWriteBound(time_point readAt) const noexcept;
-  bool constrainToEnvelope(LimiterState& state, const LimiterState& before,
-                           double dtS) const noexcept;
+  double stepSeconds(time_point writeAt) const noexcept;
   std::uint16_t statusWord(const Decision& d, const LimiterOutput& out, time_point now) noexcept;
-  void writeCommand(time_point now, std::uint16_t status, CycleReport& report) noexcept;
+  void writeCommand(time_point now, std::uint16_t status, const LimiterState& before,
+                    CycleReport& report) noexcept;
 
   ControllerPort& port_;
   const Clock& clock_;
@@ -212,7 +242,7 @@ class CompensationLoop {
 
   LoopState state_ = LoopState::Starting;
   FaultCode fault_ = FaultCode::None;
-  FaultCode latched_ = FaultCode::None;
+  FaultLatch latch_;
   bool synced_ = false;
   bool everConnected_ = false;
   bool stopRequested_ = false;
@@ -220,8 +250,6 @@ class CompensationLoop {
   bool reloadFailed_ = false;
   bool lastWriteFailed_ = false;
   bool sentAny_ = false;
-  bool lastEnable_ = false;
-  bool lastAck_ = false;
 
   AxisSample sample_{};
   OffsetCommand command_{};
@@ -238,20 +266,11 @@ class CompensationLoop {
   bool sameLatch_ = false;  ///< sample_'s timestamp is the previous sample's: nothing new latched
   std::chrono::nanoseconds lastWriteDuration_{0};
 
-  /// Writes with an unknown outcome since the last acknowledged one: the controller applies a
-  /// value in [envelopeLowMm_, envelopeHighMm_] per axis (the hull of the acknowledged value and
-  /// every value attempted since).
-  bool uncertain_ = false;
-  std::array<double, 3> envelopeLowMm_{};
-  std::array<double, 3> envelopeHighMm_{};
+  /// What the controller may apply while writes have an unknown outcome.
+  WriteEnvelope envelope_;
+  SaturationMonitor saturation_;
+  ReconnectBackoff backoff_;
 
-  /// Per axis: since when the model's target has been outside the clamp band (clamping_).
-  std::array<bool, 3> clamping_{};
-  std::array<time_point, 3> clampSince_{};
-  bool saturationWarned_ = false;
-
-  std::chrono::nanoseconds backoff_{0};
-  time_point nextConnectAttempt_{};
   time_point lastWriteTime_{};  // last acknowledged write
   time_point lastSentTime_{};   // last write sent (acknowledged or not)
   time_point lastWriteEnd_{};   // end of the last write transaction (its reply, or giving up)

@@ -1,7 +1,8 @@
 # Runs at install time (`cmake --install`, and cpack, which installs with the prefix /usr): writes
-# volcompd.service with the absolute paths of that installation and installs it. The paths are
-# taken from the install-time prefix, not the configure-time one, so that a package built from
-# a tree configured for /usr/local still starts /usr/sbin/volcompd.
+# volcompd.service (or the LinuxCNC drop-in, volcompd-linuxcnc.conf) with the absolute paths of
+# that installation and installs it into VOLCOMP_UNIT_DIR. The paths are taken from the
+# install-time prefix, not the configure-time one, so that a package built from a tree configured
+# for /usr/local still starts /usr/sbin/volcompd.
 #
 # Set by the install(CODE) in systemd/CMakeLists.txt: VOLCOMP_UNIT_TEMPLATE, VOLCOMP_UNIT_OUTPUT,
 # VOLCOMP_UNIT_DIR, VOLCOMP_SBINDIR, VOLCOMP_SYSCONFDIR, VOLCOMP_DOCDIR, VOLCOMP_CONFIG_OVERRIDE.
@@ -30,6 +31,7 @@ volcomp_full_path(sbindir "${VOLCOMP_SBINDIR}")
 volcomp_full_path(VOLCOMP_DOC_DIR "${VOLCOMP_DOCDIR}")
 volcomp_full_path(unitdir "${VOLCOMP_UNIT_DIR}")
 set(VOLCOMPD_PATH "${sbindir}/volcompd")
+set(VOLCOMPD_LINUXCNC_PATH "${sbindir}/volcompd-linuxcnc")
 if(VOLCOMP_CONFIG_OVERRIDE)
   set(VOLCOMPD_CONFIG "${VOLCOMP_CONFIG_OVERRIDE}")
 else()

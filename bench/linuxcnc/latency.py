@@ -17,7 +17,7 @@ sampling, its work, HAL); t2 - t0 adds LinuxCNC's pick-up and ramp. Resolution: 
 
 usage: cmake --build build --target bench-linuxcnc-latency, or
        flock /tmp/volcomp-linuxcnc.lock python3 bench/linuxcnc/latency.py \\
-           build/daemon/volcompd/volcompd build/tools/cli/volcomp config/linuxcnc WORK
+           build/daemon/volcompd/volcompd-linuxcnc build/tools/cli/volcomp config/linuxcnc WORK
 Prints the figures and writes WORK/latency.json.
 """
 import json

@@ -149,14 +149,6 @@ std::string overrideHint() {
 
 }  // namespace
 
-std::optional<OffsetBound> offsetBoundOf(const DaemonConfig& config) {
-  if (config.acceptModelBeyondMaxOffset) return std::nullopt;
-  OffsetBound bound;
-  for (std::size_t k = 0; k < 3; ++k) bound.maxOffsetMm[k] = config.limiter.axes[k].maxOffsetMm;
-  bound.source = "limiter.max_offset_mm of " + config.file;
-  return bound;
-}
-
 ModelAssessment assessModel(const model::MachineModel& model) {
   ModelAssessment a;
   chooseRanges(model.spec(), a);

@@ -1,5 +1,6 @@
 // volcompd: the live compensation daemon. Reads the configuration, builds the driver named in it,
-// and runs the compensation loop until SIGTERM/SIGINT (ramp-out, exit 0); SIGHUP reloads.
+// and runs the compensation loop until SIGTERM/SIGINT (ramp-out, exit 0); SIGHUP reloads. Shared
+// by volcompd and volcompd-linuxcnc, which differ only in the transports they have (program.hpp).
 // Exit status: 0 after a clean stop or a good --check-config, 1 on a runtime failure, 2 on bad
 // arguments or a bad configuration/model file.
 
@@ -24,6 +25,7 @@
 
 #include "commissioning.hpp"
 #include "environment_check.hpp"
+#include "program.hpp"
 #include "transports.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/daemon/daemon.hpp"
@@ -62,6 +64,7 @@ int probe(const std::string& configPath, const volcomp::volcompd::ProbeOptions& 
   volcomp::config::DaemonConfig config;
   try {
     config = volcomp::config::loadDaemonConfig(configPath);
+    volcomp::volcompd::requireTransportBuiltIn(config.transport, config.file);
     return volcomp::volcompd::runProbe(config, options, std::cout);
   } catch (const volcomp::config::ConfigError& e) {
     spdlog::error("{}", e.what());
@@ -75,6 +78,7 @@ int run(const std::string& configPath, bool checkOnly, bool verbose) {
   std::string environment;
   try {
     loaded = volcomp::daemon::loadConfiguration(configPath);
+    volcomp::volcompd::requireTransportBuiltIn(loaded.config.transport, loaded.config.file);
     port = volcomp::volcompd::makeControllerPort(loaded.config.transport, loaded.config.file);
     if (checkOnly) {
       environment =
@@ -143,8 +147,9 @@ int main(int argc, char** argv) {
   // daemon with offsets applied: writes then fail with EPIPE, which logging ignores.
   std::signal(SIGPIPE, SIG_IGN);
   setUpLogging();
-  CLI::App app{"volcompd: live volumetric error compensation daemon", "volcompd"};
-  app.set_version_flag("--version", std::string("volcompd ") + VOLCOMP_VERSION);
+  const std::string program = volcomp::volcompd::kProgramName;
+  CLI::App app{program + ": live volumetric error compensation daemon", program};
+  app.set_version_flag("--version", program + " " + VOLCOMP_VERSION);
   std::string configPath;
   bool checkOnly = false;
   bool verbose = false;

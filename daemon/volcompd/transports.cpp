@@ -7,8 +7,8 @@
 #include <spdlog/spdlog.h>
 #include "volcomp/can/controller_port.hpp"
 
+#include "program.hpp"
 #include "volcomp/config/config_error.hpp"
-#include "volcomp/linuxcnc/hal_port.hpp"
 #include "volcomp/modbus/controller_port.hpp"
 #include "volcomp/modbus/server_port.hpp"
 
@@ -35,14 +35,8 @@ std::unique_ptr<loop::ControllerPort> makeControllerPort(const config::Transport
                                       std::string("libmodbus refused the settings: ") + e.what());
           }
         } else if constexpr (std::is_same_v<Settings, linuxcnc::HalSettings>) {
-          // Joining LinuxCNC's HAL happens at connect (retried with the loop's backoff); what an
-          // operator must know about it goes to the log, never from the cycle's read or write.
-          return std::make_unique<linuxcnc::HalControllerPort>(
-              driverSettings, [](linuxcnc::NoticeLevel level, std::string_view line) {
-                spdlog::log(level == linuxcnc::NoticeLevel::Warning ? spdlog::level::warn
-                                                                    : spdlog::level::info,
-                            "linuxcnc: {}", line);
-              });
+          // volcompd-linuxcnc only (program.hpp).
+          return makeLinuxCncPort(driverSettings, file);
         } else {
           return std::make_unique<can::CanControllerPort>(driverSettings);
         }

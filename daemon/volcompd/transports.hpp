@@ -12,8 +12,9 @@
 namespace volcomp::volcompd {
 
 /// The unconnected port for `settings`: the libmodbus port for Modbus TCP/RTU, the SocketCAN port
-/// for CAN, the HAL component for LinuxCNC. Throws config::ConfigError naming `file` at "transport"
-/// when libmodbus refuses settings that passed validation.
+/// for CAN, the HAL component for LinuxCNC (volcompd-linuxcnc; plain volcompd refuses it, see
+/// program.hpp). Throws config::ConfigError naming `file` at "transport" when libmodbus refuses
+/// settings that passed validation.
 std::unique_ptr<loop::ControllerPort> makeControllerPort(const config::TransportSettings& settings,
                                                          const std::string& file);
 

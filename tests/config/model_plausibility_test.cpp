@@ -7,6 +7,7 @@
 #include <string>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/daemon_config.hpp"
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/config/model_plausibility.hpp"
 

@@ -293,6 +293,23 @@ TEST_F(VolcompdProcess, TheRampOutMustFitTheUnitsStopTimeout) {
   EXPECT_EQ(accepted.waitExit(20s), 0) << accepted.output();
 }
 
+// The LinuxCNC transport is volcompd-linuxcnc's: plain volcompd reads the section, then refuses it
+// in one line naming the program and the package that have it, like any bad configuration.
+TEST_F(VolcompdProcess, RefusesTheLinuxCncTransportNamingVolcompdLinuxcnc) {
+  config_["transport"] = nlohmann::json::parse(R"({"type": "linuxcnc", "component": "volcomp"})");
+  dir_.write("volcompd.json", config_.dump());
+  for (const char* mode : {"--check-config", "--probe"}) {
+    testutil::Subprocess child = run({mode});
+    EXPECT_EQ(child.waitExit(20s), 2) << mode << ": " << child.output();
+    const std::string out = child.output();
+    EXPECT_NE(out.find("transport.type: \"linuxcnc\" is the transport of volcompd-linuxcnc "
+                       "(package volcomp-linuxcnc)"),
+              std::string::npos)
+        << mode << ": " << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << mode << ": " << out;
+  }
+}
+
 TEST_F(VolcompdProcess, PrintsItsVersion) {
   testutil::Subprocess child = testutil::Subprocess({VOLCOMPD_PATH, "--version"}, "");
   EXPECT_EQ(child.waitExit(20s), 0);

@@ -51,7 +51,7 @@ inline Command linuxCncFullPrecision(const TempDir& dir, const std::string& prog
                                      const std::string& varFile) {
   const std::filesystem::path copy = dir.path() / "python-parameters.var";
   std::filesystem::copy_file(varFile, copy, std::filesystem::copy_options::overwrite_existing);
-  return runCommand(dir, std::string("/usr/bin/python3 ") + quoted(VOLCOMP_LCNC_CANON) + " " +
+  return runCommand(dir, quoted(VOLCOMP_PYTHON) + " " + quoted(VOLCOMP_LCNC_CANON) + " " +
                              quoted(program) + " " + quoted(copy.string()));
 }
 

@@ -23,10 +23,10 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
-#include "volcomp/config/daemon_config.hpp"
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/model/machine_model.hpp"
 
@@ -66,14 +66,11 @@ struct ModelAssessment {
 ModelAssessment assessModel(const model::MachineModel& model);
 
 /// The limiter a model must fit, and where that limit comes from (for the message).
+/// (The daemon configuration's limiter gives it: offsetBoundOf in config/daemon_config.hpp.)
 struct OffsetBound {
   std::array<double, 3> maxOffsetMm{};  ///< per axis X, Y, Z
   std::string source;                   ///< e.g. "limiter.max_offset_mm of volcompd.json"
 };
-
-/// The daemon configuration's limiter as the bound a model must fit; std::nullopt when the
-/// configuration accepts a model beyond it ("accept_model_beyond_max_offset": true).
-std::optional<OffsetBound> offsetBoundOf(const DaemonConfig& config);
 
 /// Throws ConfigError (the model's file, the key path of the culprit, what was found and what
 /// to do) on the first problem listed at the top of this header; returns when there is none.

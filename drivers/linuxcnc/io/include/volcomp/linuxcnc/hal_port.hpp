@@ -64,8 +64,6 @@ class HalControllerPort final : public loop::ControllerPort {
   std::error_code write(const loop::OffsetCommand& command) noexcept override;
 
   const HalSettings& settings() const noexcept { return settings_; }
-  /// The component's name while connected ("" otherwise).
-  const std::string& componentName() const noexcept { return name_; }
   const HalStatistics& statistics() const noexcept { return stats_; }
 
  private:

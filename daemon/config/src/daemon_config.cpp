@@ -222,4 +222,12 @@ DaemonConfig loadDaemonConfig(const std::string& path) {
   return parseDaemonConfig(readJsonFile(path), path);
 }
 
+std::optional<OffsetBound> offsetBoundOf(const DaemonConfig& config) {
+  if (config.acceptModelBeyondMaxOffset) return std::nullopt;
+  OffsetBound bound;
+  for (std::size_t k = 0; k < 3; ++k) bound.maxOffsetMm[k] = config.limiter.axes[k].maxOffsetMm;
+  bound.source = "limiter.max_offset_mm of " + config.file;
+  return bound;
+}
+
 }  // namespace volcomp::config

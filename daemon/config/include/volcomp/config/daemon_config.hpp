@@ -48,6 +48,7 @@
 #include <nlohmann/json.hpp>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/model_plausibility.hpp"
 #include "volcomp/config/transport_config.hpp"
 #include "volcomp/loop/limiter.hpp"
 #include "volcomp/loop/loop_settings.hpp"
@@ -100,9 +101,9 @@ struct DaemonConfig {
   TransportSettings transport;
 };
 
-/// Time the limiter needs to ramp the largest allowed offset out, s: per axis max_offset / max_rate,
-/// plus the acceleration and braking phases (2 x max_rate / max_accel) when an acceleration limit
-/// is set; the longest axis.
+/// Time the limiter needs to ramp the largest allowed offset out, s: per axis max_offset /
+/// max_rate, plus the acceleration and braking phases (2 x max_rate / max_accel) when an
+/// acceleration limit is set; the longest axis.
 double rampOutSeconds(const loop::LimiterSettings& limiter) noexcept;
 
 /// Reads and validates a daemon configuration file. Throws ConfigError (file, key path, what was
@@ -111,5 +112,9 @@ DaemonConfig loadDaemonConfig(const std::string& path);
 
 /// Same for an already parsed document; `file` is used in messages and to resolve "model".
 DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string& file);
+
+/// The limiter as the bound a model must fit (config/model_plausibility.hpp); std::nullopt when the
+/// configuration accepts a model beyond it ("accept_model_beyond_max_offset": true).
+std::optional<OffsetBound> offsetBoundOf(const DaemonConfig& config);
 
 }  // namespace volcomp::config

@@ -17,11 +17,13 @@ werror=OFF
 if [ "${CI:-}" = "true" ]; then werror=ON; fi
 
 targets=()
-what=(-DVOLCOMP_BUILD_TESTS=ON -DVOLCOMP_BUILD_BENCH=ON -DVOLCOMP_BUILD_PACKAGE=ON)
+what=(-DVOLCOMP_BUILD_TESTS=ON -DVOLCOMP_BUILD_BENCH=ON -DVOLCOMP_BUILD_PACKAGE=ON
+      -DVOLCOMP_LINUXCNC=AUTO)
 if [ "${1:-}" = "--demo" ]; then
   shift
   targets=(--target volcomp volcompd volcomp-sim)
-  what=(-DVOLCOMP_BUILD_TESTS=OFF -DVOLCOMP_BUILD_BENCH=OFF -DVOLCOMP_BUILD_PACKAGE=OFF)
+  what=(-DVOLCOMP_BUILD_TESTS=OFF -DVOLCOMP_BUILD_BENCH=OFF -DVOLCOMP_BUILD_PACKAGE=OFF
+        -DVOLCOMP_LINUXCNC=OFF)
 fi
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DVOLCOMP_WERROR="$werror" "${what[@]}" \

@@ -133,7 +133,7 @@ ValidationResult validateWith(const ProblemFactory& factory, const MeasurementSe
                               const FitResult& fit) {
   const auto problem = factory(heldOut);
   ValidationResult result;
-  result.kind = "file";
+  result.kind = ValidationKind::File;
   result.file = heldOut.file;
   result.stats = residualStats(*problem, fit.parameters);
   for (const Measurement& m : heldOut.points) result.lines.push_back(m.line);
@@ -148,7 +148,7 @@ ValidationResult crossValidate(const ProblemFactory& factory, const MeasurementS
   std::mt19937 generator(20261201);
   std::shuffle(order.begin(), order.end(), generator);
   ValidationResult result;
-  result.kind = "k-fold";
+  result.kind = ValidationKind::KFold;
   result.folds = folds;
   SolveOptions quiet = options;
   quiet.progress = nullptr;

@@ -1,5 +1,5 @@
 #pragma once
-// Internal: what runCalibrate computes after a fit for the report (predictions with their
+// Internal: what analyseCalibration computes after a fit for the report (predictions with their
 // uncertainty, identified curves, what the data cover, held-out residuals).
 
 #include <functional>

@@ -108,6 +108,21 @@ void report(const PlanOptions& options, const std::string& line) {
 
 }  // namespace
 
+bool PlanOptions::isValid(std::string* error, Field* field) const {
+  const auto invalid = [&](Field which, const char* expected) {
+    if (error != nullptr) *error = expected;
+    if (field != nullptr) *field = which;
+    return false;
+  };
+  if (points < 1) return invalid(Field::Points, "expected N >= 1");
+  if (!(noiseMm > 0.0)) return invalid(Field::Noise, "expected > 0 (mm)");
+  if (!(rankTolerance > 0.0 && rankTolerance < 1.0)) {
+    return invalid(Field::RankTolerance, "expected a value in (0, 1)");
+  }
+  if (maxPasses < 0) return invalid(Field::MaxPasses, "expected >= 0");
+  return true;
+}
+
 std::vector<PlanCandidate> gridCandidates(const model::MachineModelSpec& spec,
                                           const std::array<int, 3>& nodes,
                                           const std::vector<Eigen::Vector3d>& toolsMm) {

@@ -73,6 +73,30 @@ Json curveJson(const SampledCurve& c) {
 
 }  // namespace
 
+const char* validationKindName(ValidationKind kind) noexcept {
+  return kind == ValidationKind::KFold ? "k-fold" : "file";
+}
+
+const char* reportKindName(ReportKind kind) noexcept {
+  return kind == ReportKind::Planar2Dof ? "planar2dof" : "machine";
+}
+
+const char* methodName(Method method) noexcept {
+  return method == Method::LevenbergMarquardt ? "levenberg-marquardt" : "linear";
+}
+
+const char* lossName(RobustLoss loss) noexcept {
+  switch (loss) {
+    case RobustLoss::Huber:
+      return "huber";
+    case RobustLoss::Cauchy:
+      return "cauchy";
+    case RobustLoss::None:
+      break;
+  }
+  return "none";
+}
+
 nlohmann::json reportJson(const FitResult& fit, const std::vector<ParameterInfo>& info,
                           const ReportContext& context) {
   const FitStatistics& st = fit.statistics;
@@ -130,10 +154,10 @@ nlohmann::json reportJson(const FitResult& fit, const std::vector<ParameterInfo>
   if (context.validation) {
     const ValidationResult& v = *context.validation;
     Json validation = stats(v.stats, v.lines);
-    validation["kind"] = v.kind;
+    validation["kind"] = validationKindName(v.kind);
     validation["points"] = v.lines.size();
-    if (v.kind == "file") validation["file"] = v.file;
-    if (v.kind == "k-fold") {
+    if (v.kind == ValidationKind::File) validation["file"] = v.file;
+    if (v.kind == ValidationKind::KFold) {
       validation["folds"] = v.folds;
       validation["fold_rms_mm"] = v.foldRmsMm;
       validation["fold_rank"] = v.foldRank;
@@ -142,13 +166,13 @@ nlohmann::json reportJson(const FitResult& fit, const std::vector<ParameterInfo>
   }
   Json report{
       {"format", "volcomp-calibration-report/1"},
-      {"kind", context.kind},
+      {"kind", reportKindName(context.kind)},
       {"volcomp_version", context.volcompVersion},
       {"date", context.date},
       {"template", context.templateFile},
       {"measurements", context.measurementFile},
-      {"method", context.method},
-      {"loss", context.loss},
+      {"method", methodName(context.method)},
+      {"loss", lossName(context.loss)},
       {"points", context.lines.size()},
       {"converged", fit.converged},
       {"iterations", fit.iterations},

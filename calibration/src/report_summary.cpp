@@ -162,8 +162,8 @@ void writeSummary(std::ostream& out, const FitResult& fit, const std::vector<Par
                   const ReportContext& context) {
   const FitStatistics& st = fit.statistics;
   out << "calibration of " << context.templateFile << " from " << context.measurementFile << " ("
-      << context.lines.size() << " points, method " << context.method << ", loss " << context.loss
-      << ")\n";
+      << context.lines.size() << " points, method " << methodName(context.method) << ", loss "
+      << lossName(context.loss) << ")\n";
   out << (fit.converged ? "converged" : "NOT converged") << " after " << fit.iterations
       << " iterations: " << fit.termination << "\n\n";
   parameterTable(out, fit, info, context);
@@ -174,8 +174,9 @@ void writeSummary(std::ostream& out, const FitResult& fit, const std::vector<Par
   residualRow(out, "after", fit.after, context.lines);
   if (context.validation) {
     const ValidationResult& v = *context.validation;
-    const std::string label = v.kind == "file" ? "held out (" + v.file + ")"
-                                               : "held out (" + std::to_string(v.folds) + "-fold)";
+    const std::string label = v.kind == ValidationKind::File
+                                  ? "held out (" + v.file + ")"
+                                  : "held out (" + std::to_string(v.folds) + "-fold)";
     residualRow(out, label, v.stats, v.lines);
   }
   out << "s0 (scatter per weighted row) " << um(std::sqrt(st.varianceFactor)) << ", " << st.dof

@@ -53,9 +53,9 @@ int main(int argc, char** argv) {
   CheckOptions checkOptions;
   CLI::App* eval = addEvalVerb(app, evalOptions);
   CLI::App* check = addCheckVerb(app, checkOptions);
-  volcomp::calibration::CalibrateOptions calibrateOptions;
-  calibrateOptions.volcompVersion = VOLCOMP_VERSION;
-  CLI::App* calibrate = addCalibrateVerb(app, calibrateOptions);
+  CalibrateArguments calibrateArguments;
+  calibrateArguments.options.volcompVersion = VOLCOMP_VERSION;
+  CLI::App* calibrate = addCalibrateVerb(app, calibrateArguments);
   Iso230Options iso230Options;
   CLI::App* iso230 = addIso230Verb(app, iso230Options);
   ExportOptions exportOptions;
@@ -78,14 +78,17 @@ int main(int argc, char** argv) {
   try {
     if (eval->parsed()) return runEval(evalOptions, std::cout, std::cerr);
     if (check->parsed()) return runCheck(checkOptions, std::cout);
-    if (calibrate->parsed()) return volcomp::calibration::runCalibrate(calibrateOptions, std::cout);
+    if (calibrate->parsed()) {
+      resolveCalibrateArguments(calibrateArguments);
+      return runCalibrate(calibrateArguments.options, std::cout);
+    }
     if (iso230->parsed()) return runIso230(iso230Options, std::cout, std::cerr);
     if (exportVerb->parsed()) return runExport(exportOptions, std::cout);
     if (report->parsed()) return runReport(reportOptions, std::cout, std::cerr);
     if (plan->parsed()) {
       resolvePlanArguments(planArguments);
       planArguments.options.progress = &std::cerr;
-      return volcomp::calibration::runPlan(planArguments.options, std::cout);
+      return runPlan(planArguments.options, std::cout);
     }
     if (ncVerb->parsed()) return runNc(ncOptions, std::cerr);
   } catch (const volcomp::config::ConfigError& e) {

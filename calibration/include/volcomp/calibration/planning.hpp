@@ -59,6 +59,12 @@ struct PlanOptions {
   /// Exchange passes over the chosen points (each pass tries every chosen point once).
   int maxPasses = 20;
   std::function<void(const std::string&)> progress;
+
+  /// The settings, to name the one that cannot be used.
+  enum class Field { Points, Noise, RankTolerance, MaxPasses };
+  /// True when the options can be used (the number of candidates aside). Otherwise false, with
+  /// *error saying what the value of *field must be; either pointer may be null.
+  bool isValid(std::string* error, Field* field = nullptr) const;
 };
 
 struct PlanResult {

@@ -62,11 +62,17 @@ struct SampledCurve {
   double meanStd = 0.0;
 };
 
+/// Where held-out points come from: a file of their own, or the folds of a k-fold
+/// cross-validation of the measurements.
+enum class ValidationKind { File, KFold };
+/// The report's names: "file", "k-fold".
+const char* validationKindName(ValidationKind kind) noexcept;
+
 /// Residuals of points held out of the fit.
 struct ValidationResult {
-  std::string kind;  ///< "file" (--validate) or "k-fold"
-  std::string file;  ///< the validation file (kind "file")
-  int folds = 0;     ///< k (kind "k-fold")
+  ValidationKind kind = ValidationKind::File;
+  std::string file;  ///< the validation file (kind File)
+  int folds = 0;     ///< k (kind KFold)
   ResidualStats stats;
   std::vector<int> lines;  ///< line of each held-out point, in the order of stats' indices
   std::vector<double> foldRmsMm;
@@ -81,19 +87,27 @@ struct DataCoverage {
   std::vector<Eigen::Vector3d> toolsMm;  ///< distinct tool offsets
 };
 
+/// What was calibrated: a machine (a model template) or seed 003's planar device.
+enum class ReportKind { Machine, Planar2Dof };
+/// The report's names: "machine", "planar2dof".
+const char* reportKindName(ReportKind kind) noexcept;
+/// The report's names of the solver and the loss: "linear", "levenberg-marquardt"; "none",
+/// "huber", "cauchy".
+const char* methodName(Method method) noexcept;
+const char* lossName(RobustLoss loss) noexcept;
+
 struct ReportContext {
   std::string templateFile;
   std::string measurementFile;
-  std::string method;  ///< "linear" or "levenberg-marquardt"
-  std::string loss;    ///< "none", "huber", "cauchy"
+  Method method = Method::Linear;
+  RobustLoss loss = RobustLoss::None;
   double rankTolerance = 0.0;
   /// Line numbers of the measurement rows (for "worst point" messages); may be empty.
   std::vector<int> lines;
   std::string volcompVersion;
   std::string date;  ///< ISO 8601 UTC
   AngleDisplay angleDisplay = AngleDisplay::Microradian;
-  /// "machine" (a model template), "planar2dof" (seed 003's device).
-  std::string kind = "machine";
+  ReportKind kind = ReportKind::Machine;
   std::optional<DataCoverage> coverage;
   std::optional<PredictionSummary> prediction;
   std::vector<PointPrediction> predictedAt;  ///< --predict points (JSON only)

@@ -1,21 +1,38 @@
-// Seed 003's device from the command line's verb (runCalibrate with a "volcomp-planar2dof/1"
-// device file): readings a,b,gx,gy; the paper's table 2 layout; the nine-parameter case names the
-// two the data cannot separate; recovery of the paper's values within 2 sigma.
+// Seed 003's device from the command line (`volcomp calibrate` with a "volcomp-planar2dof/1"
+// device file, as a process): readings a,b,gx,gy; the paper's table 2 layout; the nine-parameter
+// case names the two the data cannot separate; recovery of the paper's values within 2 sigma.
 
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "planar_synthetic.hpp"
-#include "temp_files.hpp"
-#include "volcomp/calibration/run_calibrate.hpp"
-#include "volcomp/config/config_error.hpp"
+#include "run_cli.hpp"
 
 namespace volcomp::calibration {
 namespace {
 
 using nlohmann::json;
+using volcomp::testing::CliRun;
+using volcomp::testing::quoted;
+
+// The files of one run.
+struct CalibrateOptions {
+  std::string templatePath;
+  std::string measurementsPath;
+  std::string outPath;
+  std::string reportPath;
+};
+
+CliRun runCalibrate(const volcomp::testing::TempDir& dir, const CalibrateOptions& options) {
+  std::string args = "calibrate " + quoted(options.templatePath) + " " +
+                     quoted(options.measurementsPath) + " --out " + quoted(options.outPath);
+  if (!options.reportPath.empty()) args += " --report " + quoted(options.reportPath);
+  return volcomp::testing::runCli(dir, args);
+}
 
 // The paper's device file: nominal legs, reference point n = 1, the paper's 7 parameters and
 // starting values (table 2; lengths mm, phi deg).
@@ -50,9 +67,9 @@ TEST(Planar2DofCli, TableTwoLayoutAndTheFittedDevice) {
   options.measurementsPath = dir.write("readings.csv", readingsCsv(2026, 1.8e-3));
   options.outPath = (dir.path() / "fitted.json").string();
   options.reportPath = (dir.path() / "report.json").string();
-  std::ostringstream out;
-  ASSERT_EQ(runCalibrate(options, out), 0);
-  const std::string text = out.str();
+  const CliRun out = runCalibrate(dir, options);
+  ASSERT_EQ(out.status, 0) << out.out << out.err;
+  const std::string text = out.out;
   EXPECT_NE(text.find("Parameters     Starting values  Optimized values  Standard deviation s_i"),
             std::string::npos)
       << text;
@@ -108,8 +125,8 @@ TEST(Planar2DofCli, RecoversThePaperValuesWithinTwoSigma) {
     options.measurementsPath = dir.write("readings.csv", readingsCsv(seed, 1.8e-3));
     options.outPath = (dir.path() / "fitted.json").string();
     options.reportPath = (dir.path() / "report.json").string();
-    std::ostringstream out;
-    ASSERT_EQ(runCalibrate(options, out), 0);
+    const CliRun out = runCalibrate(dir, options);
+    ASSERT_EQ(out.status, 0) << out.out << out.err;
     const json report = readJson(options.reportPath);
     ASSERT_TRUE(report["converged"].get<bool>());
     for (std::size_t j = 0; j < expected.size(); ++j) {
@@ -134,15 +151,15 @@ TEST(Planar2DofCli, AllNineFreeNamesTheTwoThatCannotBeIdentified) {
   options.measurementsPath = dir.write("readings.csv", readingsCsv(7, 1e-3));
   options.outPath = (dir.path() / "fitted.json").string();
   options.reportPath = (dir.path() / "report.json").string();
-  std::ostringstream out;
-  ASSERT_EQ(runCalibrate(options, out), 0);
+  const CliRun out = runCalibrate(dir, options);
+  ASSERT_EQ(out.status, 0) << out.out << out.err;
   const json report = readJson(options.reportPath);
   EXPECT_EQ(report["rank"], 7);
   ASSERT_EQ(report["unidentifiable"].size(), 2u);
   EXPECT_EQ(report["unidentifiable"][0]["parameters"], json({"ea", "eb"}));
   EXPECT_EQ(report["unidentifiable"][1]["parameters"], json({"eha", "ehb"}));
-  EXPECT_NE(out.str().find("ea and eb are not separable"), std::string::npos) << out.str();
-  EXPECT_NE(out.str().find("not identifiable"), std::string::npos) << out.str();
+  EXPECT_NE(out.out.find("ea and eb are not separable"), std::string::npos) << out.out;
+  EXPECT_NE(out.out.find("not identifiable"), std::string::npos) << out.out;
   const json fitted = readJson(options.outPath);
   EXPECT_TRUE(fitted["std"]["eb"].is_null());
 }
@@ -154,13 +171,11 @@ TEST(Planar2DofCli, BadDeviceFilesAndReadingsNameTheKeyOrLine) {
     options.templatePath = dir.write("device.json", device);
     options.measurementsPath = dir.write("readings.csv", csv);
     options.outPath = (dir.path() / "fitted.json").string();
-    std::ostringstream out;
-    try {
-      runCalibrate(options, out);
-    } catch (const config::ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
+    // A ConfigError: exit status 2 and its one line on stderr.
+    const CliRun run = runCalibrate(dir, options);
+    EXPECT_EQ(run.status, 2) << run.out << run.err;
+    EXPECT_EQ(run.errLines(), 1) << run.err;
+    return run.status == 2 ? run.err : std::string();
   };
   json device = json::parse(kDevice);
   device["free"] = {"eLa", "psi"};

@@ -1,39 +1,55 @@
-// runCalibrate (the `volcomp calibrate` verb) on files: output model, report JSON, summary.
+// `volcomp calibrate` as a process, on files: output model, report JSON, summary, exit status
+// and the one line on stderr.
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <sstream>
 
+#include "run_cli.hpp"
 #include "synthetic.hpp"
-#include "volcomp/calibration/run_calibrate.hpp"
 #include "volcomp/config/model_file.hpp"
 
 namespace volcomp::calibration {
 namespace {
 
 using nlohmann::json;
+using volcomp::testing::CliRun;
+using volcomp::testing::quoted;
 namespace fs = std::filesystem;
+
+// The command line of one run: the files and the other options as CLI text.
+struct CalibrateOptions {
+  std::string templatePath;
+  std::string measurementsPath;
+  std::string outPath;
+  std::string reportPath;
+  std::string validatePath;
+  std::string predictPath;
+  std::string predictOutPath;
+  std::string more;  ///< further options, e.g. "--loss cauchy"
+};
 
 class RunCalibrate : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::random_device device;
-    directory_ = fs::temp_directory_path() /
-                 ("volcomp-calibrate-" + std::to_string(device()) + "-" +
-                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(directory_);
-  }
-  void TearDown() override { fs::remove_all(directory_); }
-
   std::string write(const std::string& name, const std::string& text) {
-    const fs::path path = directory_ / name;
-    std::ofstream(path) << text;
-    return path.string();
+    return directory_.write(name, text);
   }
-  std::string path(const std::string& name) const { return (directory_ / name).string(); }
+  std::string path(const std::string& name) const { return (directory_.path() / name).string(); }
+
+  CliRun runCalibrate(const CalibrateOptions& options) const {
+    std::string args = "calibrate " + quoted(options.templatePath) + " " +
+                       quoted(options.measurementsPath) + " --out " + quoted(options.outPath);
+    if (!options.reportPath.empty()) args += " --report " + quoted(options.reportPath);
+    if (!options.validatePath.empty()) args += " --validate " + quoted(options.validatePath);
+    if (!options.predictPath.empty()) {
+      args += " --predict " + quoted(options.predictPath) + " --predict-out " +
+              quoted(options.predictOutPath);
+    }
+    if (!options.more.empty()) args += " " + options.more;
+    return volcomp::testing::runCli(directory_, args);
+  }
 
   // Measurements of the FXYZ truth below with two tool lengths, as CSV text.
   static std::string measurementCsv(unsigned seed = 1) {
@@ -84,11 +100,10 @@ class RunCalibrate : public ::testing::Test {
     options.measurementsPath = write("points.csv", measurementCsv());
     options.outPath = path("model.json");
     options.reportPath = path("report.json");
-    options.volcompVersion = "9.8.7";
     return options;
   }
 
-  fs::path directory_;
+  volcomp::testing::TempDir directory_;
 };
 
 TEST_F(RunCalibrate, WritesALoadableModelAReportAndASummary) {
@@ -97,8 +112,8 @@ TEST_F(RunCalibrate, WritesALoadableModelAReportAndASummary) {
   options.measurementsPath = write("points.csv", measurementCsv());
   options.outPath = path("model.json");
   options.reportPath = path("report.json");
-  std::ostringstream out;
-  EXPECT_EQ(runCalibrate(options, out), 0);
+  const CliRun out = runCalibrate(options);
+  EXPECT_EQ(out.status, 0) << out.out << out.err;
 
   // The output is an ordinary model file (no identify blocks), in the template's units.
   const config::ModelDocument model = config::loadModelFile(options.outPath);
@@ -125,7 +140,7 @@ TEST_F(RunCalibrate, WritesALoadableModelAReportAndASummary) {
   EXPECT_TRUE(report["unidentifiable"].empty());
   EXPECT_NEAR(report["s0_mm"].get<double>(), 5e-4, 1e-4);
 
-  const std::string summary = out.str();
+  const std::string summary = out.out;
   EXPECT_NE(summary.find("EXZ c1"), std::string::npos) << summary;
   EXPECT_NE(summary.find("rank 4 of 4"), std::string::npos) << summary;
   EXPECT_NE(summary.find("residual |e| before"), std::string::npos) << summary;
@@ -138,15 +153,15 @@ TEST_F(RunCalibrate, NamesWhatTheDataCannotSeparate) {
   options.measurementsPath = write("points.csv", measurementCsv());
   options.outPath = path("model.json");
   options.reportPath = path("report.json");
-  std::ostringstream out;
-  EXPECT_EQ(runCalibrate(options, out), 0);
+  const CliRun out = runCalibrate(options);
+  EXPECT_EQ(out.status, 0) << out.out << out.err;
   std::ifstream reportFile(options.reportPath);
   const json report = json::parse(reportFile);
   EXPECT_EQ(report["rank"], 4);
   ASSERT_EQ(report["unidentifiable"].size(), 1u);
   const json& names = report["unidentifiable"][0]["parameters"];
   EXPECT_EQ(names, (json{"EXX c0", "EXY c0"})) << report["unidentifiable"].dump();
-  EXPECT_NE(out.str().find("EXX c0 and EXY c0 are not separable"), std::string::npos) << out.str();
+  EXPECT_NE(out.out.find("EXX c0 and EXY c0 are not separable"), std::string::npos) << out.out;
 }
 
 TEST_F(RunCalibrate, LevenbergMarquardtWithRobustLossResistsAnOutlier) {
@@ -164,10 +179,9 @@ TEST_F(RunCalibrate, LevenbergMarquardtWithRobustLossResistsAnOutlier) {
   options.measurementsPath = write("points.csv", csv);
   options.outPath = path("model.json");
   options.reportPath = path("report.json");
-  options.loss = "cauchy";
-  options.lossScaleMm = 0.002;
-  std::ostringstream out;
-  EXPECT_EQ(runCalibrate(options, out), 0);
+  options.more = "--loss cauchy --loss-scale 0.002";
+  const CliRun out = runCalibrate(options);
+  EXPECT_EQ(out.status, 0) << out.out << out.err;
   std::ifstream reportFile(options.reportPath);
   const json report = json::parse(reportFile);
   EXPECT_EQ(report["method"], "levenberg-marquardt");
@@ -182,14 +196,12 @@ TEST_F(RunCalibrate, TemplateWithoutIdentifyBlocksIsRejected) {
       write("template.json", R"({"format": "volcomp-model/1", "topology": "FXYZ"})");
   options.measurementsPath = write("points.csv", measurementCsv());
   options.outPath = path("model.json");
-  std::ostringstream out;
-  try {
-    runCalibrate(options, out);
-    FAIL() << "expected a ConfigError";
-  } catch (const config::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("nothing to identify"), std::string::npos);
-    EXPECT_EQ(e.file(), options.templatePath);
-  }
+  // A ConfigError: exit status 2, one line on stderr naming the file.
+  const CliRun run = runCalibrate(options);
+  EXPECT_EQ(run.status, 2) << run.out << run.err;
+  EXPECT_EQ(run.errLines(), 1) << run.err;
+  EXPECT_NE(run.err.find("nothing to identify"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.rfind("volcomp: " + options.templatePath + ": ", 0), 0u) << run.err;
   EXPECT_FALSE(fs::exists(options.outPath));
 }
 
@@ -200,16 +212,13 @@ TEST_F(RunCalibrate, APolynomialWithoutTravelIsRefusedBeforeAnythingIsWritten) {
   t.erase("travel");
   CalibrateOptions options = defaults();
   options.templatePath = write("template.json", t.dump());
-  std::ostringstream out;
-  try {
-    runCalibrate(options, out);
-    FAIL() << "expected a ConfigError";
-  } catch (const config::ConfigError& e) {
-    EXPECT_EQ(e.file(), options.templatePath);
-    EXPECT_EQ(e.keyPath(), "components.EXX.identify");
-    EXPECT_NE(std::string(e.what()).find("needs the travel of axis X"), std::string::npos)
-        << e.what();
-  }
+  const CliRun run = runCalibrate(options);
+  EXPECT_EQ(run.status, 2) << run.out << run.err;
+  EXPECT_EQ(run.errLines(), 1) << run.err;
+  EXPECT_EQ(run.err.rfind("volcomp: " + options.templatePath + ": components.EXX.identify: ", 0),
+            0u)
+      << run.err;
+  EXPECT_NE(run.err.find("needs the travel of axis X"), std::string::npos) << run.err;
   EXPECT_FALSE(fs::exists(options.outPath));
   EXPECT_FALSE(fs::exists(options.reportPath));
 }
@@ -219,27 +228,23 @@ TEST_F(RunCalibrate, RobustLossWithTheLinearMethodIsAnOptionError) {
   options.templatePath = write("template.json", templateText(false));
   options.measurementsPath = write("points.csv", measurementCsv());
   options.outPath = path("model.json");
-  options.method = "linear";
-  options.loss = "huber";
-  std::ostringstream out;
-  try {
-    runCalibrate(options, out);
-    FAIL() << "expected a ConfigError";
-  } catch (const config::ConfigError& e) {
-    EXPECT_EQ(e.keyPath(), "--loss");
-  }
-  EXPECT_TRUE(out.str().empty());  // rejected before any work
+  options.more = "--method linear --loss huber";
+  const CliRun run = runCalibrate(options);
+  EXPECT_EQ(run.status, 2) << run.out << run.err;
+  EXPECT_EQ(run.errLines(), 1) << run.err;
+  EXPECT_EQ(run.err.rfind("volcomp: command line: --loss: ", 0), 0u) << run.err;
+  EXPECT_TRUE(run.out.empty()) << run.out;  // rejected before any work
   EXPECT_FALSE(fs::exists(options.outPath));
 }
 
 TEST_F(RunCalibrate, TheModelRecordsItsProvenanceAndMeasuredTools) {
   CalibrateOptions options = defaults(true);
-  std::ostringstream out;
-  ASSERT_EQ(runCalibrate(options, out), 0);
+  const CliRun out = runCalibrate(options);
+  ASSERT_EQ(out.status, 0) << out.out << out.err;
   const config::ModelDocument model = config::loadModelFile(options.outPath);
   ASSERT_TRUE(model.calibration.has_value());
   const config::CalibrationRecord& record = *model.calibration;
-  EXPECT_EQ(record.volcompVersion, "9.8.7");
+  EXPECT_EQ(record.volcompVersion, VOLCOMP_VERSION);
   EXPECT_EQ(record.date.size(), 20u) << record.date;  // 2026-12-01T19:40:00Z
   EXPECT_EQ(record.templateFile, options.templatePath);
   EXPECT_EQ(record.measurementFiles, std::vector<std::string>{options.measurementsPath});
@@ -254,7 +259,7 @@ TEST_F(RunCalibrate, TheModelRecordsItsProvenanceAndMeasuredTools) {
   EXPECT_NEAR(*config::toolDistanceMm(record, Eigen::Vector3d(0, 0, 300)), 50.0, 1e-9);
   // The report: no sigma where not identifiable, the decision and the policy stated.
   const json report = readJson(options.reportPath);
-  EXPECT_EQ(report["volcomp_version"], "9.8.7");
+  EXPECT_EQ(report["volcomp_version"], VOLCOMP_VERSION);
   for (const json& p : report["parameters"]) {
     EXPECT_EQ(p["std"].is_null(), !p["identifiable"].get<bool>()) << p.dump();
   }
@@ -276,44 +281,41 @@ TEST_F(RunCalibrate, TheModelRecordsItsProvenanceAndMeasuredTools) {
 TEST_F(RunCalibrate, FarTooFewPointsAreRefusedWithASummaryUnlessForced) {
   CalibrateOptions options = defaults();
   options.measurementsPath = write("one.csv", "x,y,z,ex,ey,ez\n100,100,-100,0.001,0,0\n");
-  std::ostringstream out;
-  try {
-    runCalibrate(options, out);
-    FAIL() << "expected a refusal";
-  } catch (const config::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("identify 1 of 4"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos) << e.what();
-  }
+  const CliRun out = runCalibrate(options);
+  EXPECT_EQ(out.status, 2) << out.out << out.err;  // a refusal
+  EXPECT_EQ(out.errLines(), 1) << out.err;
+  EXPECT_NE(out.err.find("identify 1 of 4"), std::string::npos) << out.err;
+  EXPECT_NE(out.err.find("--force"), std::string::npos) << out.err;
   EXPECT_FALSE(fs::exists(options.outPath));
   // The summary says per component what is missing and what the data cover, in a few lines.
-  const std::string summary = out.str();
+  const std::string summary = out.out;
   EXPECT_NE(summary.find("components.EXX: 2 of 2 not identifiable"), std::string::npos) << summary;
   EXPECT_NE(summary.find("the data: 1 point, X 100..100 mm"), std::string::npos) << summary;
-  options.force = true;
-  std::ostringstream forced;
-  EXPECT_EQ(runCalibrate(options, forced), 0);
+  options.more = "--force";
+  const CliRun forced = runCalibrate(options);
+  EXPECT_EQ(forced.status, 0) << forced.out << forced.err;
   EXPECT_TRUE(fs::exists(options.outPath));
 }
 
 TEST_F(RunCalibrate, HeldOutResidualsBesideTheFit) {
   CalibrateOptions options = defaults();
   options.validatePath = write("check.csv", measurementCsv(2));
-  std::ostringstream out;
-  ASSERT_EQ(runCalibrate(options, out), 0);
+  const CliRun out = runCalibrate(options);
+  ASSERT_EQ(out.status, 0) << out.out << out.err;
   const json validation = readJson(options.reportPath)["residuals"]["validation"];
   EXPECT_EQ(validation["kind"], "file");
   EXPECT_EQ(validation["points"], 200);
   // Independent noise of 0.5 um per coordinate: |e| RMS about 0.5 sqrt(3) = 0.87 um.
   EXPECT_NEAR(validation["rms_mm"].get<double>(), 0.87e-3, 0.15e-3);
-  EXPECT_NE(out.str().find("residual |e| held out (" + options.validatePath), std::string::npos)
-      << out.str();
+  EXPECT_NE(out.out.find("residual |e| held out (" + options.validatePath), std::string::npos)
+      << out.out;
   EXPECT_EQ(config::loadModelFile(options.outPath).calibration->validationFile,
             options.validatePath);
 
   CalibrateOptions folds = defaults();
-  folds.folds = 5;
-  std::ostringstream foldOut;
-  ASSERT_EQ(runCalibrate(folds, foldOut), 0);
+  folds.more = "--k-fold 5";
+  const CliRun foldOut = runCalibrate(folds);
+  ASSERT_EQ(foldOut.status, 0) << foldOut.out << foldOut.err;
   const json kfold = readJson(folds.reportPath)["residuals"]["validation"];
   EXPECT_EQ(kfold["kind"], "k-fold");
   EXPECT_EQ(kfold["folds"], 5);
@@ -330,8 +332,8 @@ TEST_F(RunCalibrate, PredictionsWithUncertaintyAtAnyPoint) {
                               "400,250,-200,0,0,170\n"
                               "400,250,-200,0,0,400\n");
   options.predictOutPath = path("predicted.csv");
-  std::ostringstream out;
-  ASSERT_EQ(runCalibrate(options, out), 0);
+  const CliRun out = runCalibrate(options);
+  ASSERT_EQ(out.status, 0) << out.out << out.err;
   std::ifstream in(options.predictOutPath);
   std::string header, inside, outside;
   std::getline(in, header);
@@ -350,12 +352,12 @@ TEST_F(RunCalibrate, PredictionsWithUncertaintyAtAnyPoint) {
 
 TEST_F(RunCalibrate, ArcsecondsOnScreenOnRequest) {
   CalibrateOptions options = defaults();
-  options.angleUnit = "arcsec";
-  std::ostringstream out;
-  ASSERT_EQ(runCalibrate(options, out), 0);
+  options.more = "--angle-unit arcsec";
+  const CliRun out = runCalibrate(options);
+  ASSERT_EQ(out.status, 0) << out.out << out.err;
   // EBX = 25 urad = 5.157 arcsec, shown to 4 significant digits.
-  EXPECT_NE(out.str().find("arcsec"), std::string::npos);
-  EXPECT_NE(out.str().find(" 5.1"), std::string::npos) << out.str();
+  EXPECT_NE(out.out.find("arcsec"), std::string::npos);
+  EXPECT_NE(out.out.find(" 5.1"), std::string::npos) << out.out;
 }
 
 }  // namespace

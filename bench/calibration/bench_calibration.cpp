@@ -1,9 +1,9 @@
 // Calibration timings (run pinned: taskset -c 1 bench_calibration).
-// - Seed 003: the planar 2-DOF device, 7 parameters, 25 points, Levenberg-Marquardt from the
+// - Hanak, Zirn and Ruoff: the planar 2-DOF device, 7 parameters, 25 points, Levenberg-Marquardt from the
 //   paper's starting values, with covariance and rank analysis. Target <= 1 ms.
 // - 21 components of an XYFZ machine as 8-node tables (18 x 8 + 3 = 147 parameters), 5000
 //   points (1000 positions x 5 tools), linear identification including covariance, correlation
-//   and the naming of unidentifiable combinations. Target <= 0.1 s on one core (issue 15).
+//   and the naming of unidentifiable combinations. Target <= 0.1 s on one core.
 // - The factorisation alone on that case's column-scaled 15000 x 147 sensitivity matrix, three
 //   ways: Eigen's HouseholderQR (what the identification uses), ColPivHouseholderQR, and the
 //   normal equations (J^T J by a rank update, then SelfAdjointEigenSolver), to choose between

@@ -19,7 +19,7 @@ using Json = nlohmann::json;
 constexpr const char* kFormat = "volcomp-planar2dof/1";
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
-// The units of seed 003's table 2: device lengths in mm, the plate's rotation in degrees, the
+// The units of Hanak, Zirn and Ruoff's table 2: device lengths in mm, the plate's rotation in degrees, the
 // reference point's offsets in um. The device file gives every value in mm, phi in degrees.
 ParameterInfo infoOf(int j) {
   const std::string name = planar2DofName(j);
@@ -99,7 +99,7 @@ Planar2DofReadings readPlanar2DofReadings(const std::string& path) {
 
 namespace {
 
-// Mean length of the 2-D deviations dL_i (seed 003's "average deviation").
+// Mean length of the 2-D deviations dL_i (Hanak, Zirn and Ruoff's "average deviation").
 double meanDeviation(const Planar2DofProblem& problem, const Eigen::VectorXd& p) {
   double sum = 0.0;
   double r[2];
@@ -110,7 +110,7 @@ double meanDeviation(const Planar2DofProblem& problem, const Eigen::VectorXd& p)
   return sum / problem.observationCount();
 }
 
-// Seed 003's s_r: the standard deviation of the computed position r'_i = R(phi)(r_i - r_ref) +
+// Hanak, Zirn and Ruoff's s_r: the standard deviation of the computed position r'_i = R(phi)(r_i - r_ref) +
 // e_K through all parameter variances and covariances, |sigma| of the 2-D vector, RMS over the
 // points.
 double positionStd(const Planar2DofProblem& problem, const FitResult& fit) {
@@ -143,7 +143,7 @@ Planar2DofCalibration calibratePlanar2Dof(const Json& document, const std::strin
     if (device.free[static_cast<std::size_t>(j)]) info.push_back(infoOf(j));
   }
   // The device is nonlinear in its parameters (circle intersections): Levenberg-Marquardt,
-  // without a robust loss (seed 003's least squares).
+  // without a robust loss (Hanak, Zirn and Ruoff's least squares).
   SolveOptions solveOptions;
   solveOptions.method = Method::LevenbergMarquardt;
   solveOptions.rankTolerance = settings.rankTolerance;

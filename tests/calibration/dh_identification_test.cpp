@@ -1,4 +1,4 @@
-// D-H deviations (seed 000's Cartesian table) identified with Levenberg-Marquardt.
+// D-H deviations (Bulla Ramos et al.'s Cartesian table) identified with Levenberg-Marquardt.
 
 #include <gtest/gtest.h>
 

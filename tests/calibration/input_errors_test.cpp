@@ -62,7 +62,7 @@ TEST(MeasurementCsv, RejectsBadInputNamingLineAndColumn) {
   EXPECT_NE(csvError("x,y,z,ex,ey,ez,q2\n").find("q1..qN"), std::string::npos);
 }
 
-// Issue 13: an unknown column of 100 kB made a 100 kB message, escape sequences and invalid UTF-8
+// An unknown column of 100 kB made a 100 kB message, escape sequences and invalid UTF-8
 // went to the terminal as they were. Shown now escaped, quoted and shortened.
 TEST(MeasurementCsv, AnUnknownColumnIsShownEscapedAndShort) {
   const std::string message =

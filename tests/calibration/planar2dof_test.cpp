@@ -1,4 +1,4 @@
-// Seed 003 (Hanak, Zirn, Ruoff): the planar 2-DOF device calibrated against a lattice grid plate.
+// Hanak, Zirn and Ruoff: the planar 2-DOF device calibrated against a lattice grid plate.
 
 #include <gtest/gtest.h>
 
@@ -27,7 +27,7 @@ TEST(Planar2Dof, ForwardInvertsInverse) {
 }
 
 TEST(Planar2Dof, NominalForwardMatchesSeedEquationOne) {
-  // Seed 003 eq. 1 without errors: x = (La^2 - Lb^2 + b^2 - a^2) / (2 (b - a)),
+  // Hanak, Zirn and Ruoff's eq. 1 without errors: x = (La^2 - Lb^2 + b^2 - a^2) / (2 (b - a)),
   // y = sqrt(Lb^2 - (x - b)^2). With a = -150, b = 160, La = Lb = 250:
   // x = (160^2 - 150^2) / 620 = 3100 / 620 = 5, y = sqrt(250^2 - 155^2) = sqrt(38475).
   const Eigen::Vector2d tcp = planar2DofForward({}, Planar2DofParameters{}, -150.0, 160.0);
@@ -51,7 +51,7 @@ TEST(Planar2Dof, NoiseFreeDataRecoversTableTwoExactly) {
 }
 
 TEST(Planar2Dof, SevenParametersRecoveredWithinTwoSigmaFromPaperStart) {
-  // Seed 003 reports a mean deviation of 2.3 um after the fit; for 2-D Gaussian noise the mean
+  // Hanak, Zirn and Ruoff report a mean deviation of 2.3 um after the fit; for 2-D Gaussian noise the mean
   // distance is sigma sqrt(pi / 2), so sigma = 2.3 / 1.25 = 1.8 um per coordinate.
   const double noiseMm = 1.8e-3;
   const Planar2DofParameters truth = paperOptimised();
@@ -134,7 +134,7 @@ TEST(Planar2Dof, AllNineFreeNamesTheTwoTheDataCannotSeparate) {
     EXPECT_NE(combination.description.find("not separable"), std::string::npos);
   }
   // A shift of the whole device along x (ea and eb together) or along y (eha and ehb together)
-  // changes no difference r_i - r_ref: seed 003's argument for fixing eb and ehb.
+  // changes no difference r_i - r_ref: Hanak, Zirn and Ruoff's argument for fixing eb and ehb.
   const std::set<std::set<std::string>> expected{{"ea", "eb"}, {"eha", "ehb"}};
   EXPECT_EQ(groups, expected);
   for (int j = 0; j < 9; ++j) {

@@ -1,5 +1,5 @@
 #pragma once
-// Seed 003's planar 2-DOF device: the paper's table 2 values and synthetic lattice-grid-plate
+// Hanak, Zirn and Ruoff's planar 2-DOF device: the paper's table 2 values and synthetic lattice-grid-plate
 // readings, shared by the tests and the benchmark.
 
 #include <cmath>
@@ -14,16 +14,16 @@ namespace volcomp::calibration::testing {
 
 inline constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Seed 003 table 2, "optimized values" (lengths mm, phi rad); eb = ehb = 0 by the paper's choice.
+// Hanak, Zirn and Ruoff's table 2, "optimized values" (lengths mm, phi rad); eb = ehb = 0 by the paper's choice.
 inline Planar2DofParameters paperOptimised() {
   return {0.30, 0.10, 1.53, 0.13, 0.0, 0.0, -0.184 * kDeg, -2.1e-3, 0.7e-3};
 }
-// Seed 003 table 2, "starting values".
+// Hanak, Zirn and Ruoff's table 2, "starting values".
 inline Planar2DofParameters paperStart() {
   return {0.1, 0.1, 1.0, 0.1, 0.0, 0.0, 0.057 * kDeg, 3e-3, 3e-3};
 }
 
-// 25 points on a 40 mm x 40 mm square (seed 003 fig. 5), TCP about 200 mm above the guide, LGP
+// 25 points on a 40 mm x 40 mm square (Hanak, Zirn and Ruoff's fig. 5), TCP about 200 mm above the guide, LGP
 // readings = R(phi) r + origin (so that g_i - g_ref = R(phi)(r_i - r_ref) + e_K, see
 // planar2dof.hpp) with Gaussian noise of `noiseMm` per coordinate. The reference reading's random
 // error is what (exK, eyK) stand for in the paper, so it is off by exactly -(exK, eyK) and has no

@@ -1,4 +1,4 @@
-// Seed 003's device from the command line (`volcomp calibrate` with a "volcomp-planar2dof/1"
+// Hanak, Zirn and Ruoff's device from the command line (`volcomp calibrate` with a "volcomp-planar2dof/1"
 // device file, as a process): readings a,b,gx,gy; the paper's table 2 layout; the nine-parameter
 // case names the two the data cannot separate; recovery of the paper's values within 2 sigma.
 
@@ -90,7 +90,7 @@ TEST(Planar2DofCli, TableTwoLayoutAndTheFittedDevice) {
   EXPECT_EQ(report["parameters"][4]["unit"], "deg");
   EXPECT_EQ(report["parameters"][5]["unit"], "um");
   EXPECT_EQ(report["correlation"].size(), 7u);
-  // s_r: seed 003 found 2.0 um against a mean deviation of 2.3 um; with 1.8 um of reading
+  // s_r: Hanak, Zirn and Ruoff found 2.0 um against a mean deviation of 2.3 um; with 1.8 um of reading
   // noise the propagated position sigma is of the same size, the mean deviation near
   // 1.8 sqrt(pi / 2) = 2.3 um.
   EXPECT_GT(report["s_r_mm"].get<double>(), 0.5e-3);

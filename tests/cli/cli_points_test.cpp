@@ -119,7 +119,7 @@ TEST(CliPoints, BadRowNamesFileLineAndColumnAndLeavesNoOutput) {
   }
 }
 
-// Issue 13: a bad row used to truncate an existing output first and remove it afterwards. The
+// A bad row used to truncate an existing output first and remove it afterwards. The
 // output is now written beside it and renamed only when every row was good.
 TEST(CliPoints, BadRowLeavesAnExistingOutputAsItWas) {
   TempDir dir;

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The offline NC path meets the live one on LinuxCNC 2.9 (test label `linuxcnc`, issue 12).
+"""The offline NC path meets the live one on LinuxCNC 2.9 (test label `linuxcnc`).
 
 The same G-code program runs on the same headless LinuxCNC (the VMC-850 of config/examples, the
 shipped HAL snippet, see live_program_test.py) twice per model: once unchanged while volcompd

@@ -1,4 +1,4 @@
-// Issue 10's loop rules with the fake clock: sustained limiting (the clamp holding an axis:
+// The loop's latch and saturation rules with the fake clock: sustained limiting (the clamp holding an axis:
 // warning with the axis and the requested value, the SATURATED bit, then the fault
 // sustained-limit with ramp-out) and the fault latch (a fault stays until the controller
 // acknowledges it with its fault-ack input or by switching enable off).

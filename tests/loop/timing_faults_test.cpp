@@ -1,4 +1,4 @@
-// The loop under timing faults (issue 13), with the fake clock: writes whose outcome is unknown,
+// The loop under timing faults, with the fake clock: writes whose outcome is unknown,
 // a pause between the read and the write of a cycle, steps per measured time rather than per
 // cycle, a read-back outside the band, and the bounded stop. Every write is checked against
 // what the fake controller applies at that moment.

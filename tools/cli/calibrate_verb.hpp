@@ -1,7 +1,7 @@
 #pragma once
 // `volcomp calibrate TEMPLATE.json MEASUREMENTS.csv --out MODEL.json [--report REPORT.json]`:
 // the options, the run (files read, volcomp::calibration's steps, the summary printed, the model,
-// report and predictions written) and, for a "volcomp-planar2dof/1" device file, seed 003's
+// report and predictions written) and, for a "volcomp-planar2dof/1" device file, Hanak, Zirn and Ruoff's
 // device (planar2dof_verb.hpp).
 
 #include <iosfwd>

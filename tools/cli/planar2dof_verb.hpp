@@ -1,5 +1,5 @@
 #pragma once
-// `volcomp calibrate DEVICE.json READINGS.csv` for seed 003's planar 2-DOF device (a template
+// `volcomp calibrate DEVICE.json READINGS.csv` for Hanak, Zirn and Ruoff's planar 2-DOF device (a template
 // with "format": "volcomp-planar2dof/1"; docs/calibration.md describes the files).
 
 #include <iosfwd>

@@ -1,5 +1,5 @@
 #pragma once
-/// The planar 2-DOF parallel measuring device of Hanak, Zirn, Ruoff (seed 003): two sliders on one
+/// The planar 2-DOF parallel measuring device of Hanak, Zirn and Ruoff: two sliders on one
 /// straight guide (scale readings a, b in mm) carry legs of length La, Lb that meet at the TCP.
 /// Calibration against a lattice grid plate (LGP) identifies the device errors of table 1.
 ///

@@ -1,5 +1,5 @@
 #pragma once
-/// Seed 003's planar 2-DOF device as files (docs/calibration.md): the device file
+/// Hanak, Zirn and Ruoff's planar 2-DOF device as files (docs/calibration.md): the device file
 /// ("format": "volcomp-planar2dof/1"; lengths mm, phi in degrees), the readings CSV (a, b, gx, gy,
 /// mm unless a unit suffix says), and its calibration against the lattice grid plate with the
 /// paper's figures of merit. The maths is planar2dof.hpp's.
@@ -45,10 +45,10 @@ struct Planar2DofReadings {
 Planar2DofReadings readPlanar2DofReadings(const std::string& path);
 
 struct Planar2DofCalibration {
-  /// The free parameters in the units of seed 003's table 2: lengths mm, phi deg, exK and eyK um.
+  /// The free parameters in the units of Hanak, Zirn and Ruoff's table 2: lengths mm, phi deg, exK and eyK um.
   std::vector<ParameterInfo> parameters;
   FitResult fit;
-  /// Seed 003's s_r: the standard deviation of the computed position through all parameter
+  /// Hanak, Zirn and Ruoff's s_r: the standard deviation of the computed position through all parameter
   /// variances and covariances, |sigma| of the 2-D vector, RMS over the points (mm).
   double positionStdMm = 0.0;
   /// Mean length of the 2-D deviations |dL_i| between device and grid plate (mm).

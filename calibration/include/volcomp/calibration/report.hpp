@@ -87,7 +87,7 @@ struct DataCoverage {
   std::vector<Eigen::Vector3d> toolsMm;  ///< distinct tool offsets
 };
 
-/// What was calibrated: a machine (a model template) or seed 003's planar device.
+/// What was calibrated: a machine (a model template) or Hanak, Zirn and Ruoff's planar device.
 enum class ReportKind { Machine, Planar2Dof };
 /// The report's names: "machine", "planar2dof".
 const char* reportKindName(ReportKind kind) noexcept;

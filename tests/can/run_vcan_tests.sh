@@ -81,8 +81,8 @@ busybox="$(command -v busybox || true)"
 { ldd "$busybox" 2>&1 || true; } | grep -q "not a dynamic" ||
   fail "$busybox is not statically linked (install busybox-static)"
 
-# 1. Debian's kernel package, downloaded once into the cache. The CAN tests run side by side
-# (ctest -j), so one of them at a time downloads and extracts; the others wait for it.
+# 1. Debian's kernel package, downloaded once into the cache. Two runs at once (two build trees,
+# or tests started by hand) download and extract one at a time; the others wait for it.
 exec 9>"$cache/.download.lock"
 flock 9
 kernel_package() {

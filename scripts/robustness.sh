@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The clang pass of the test command (scripts/test.sh, docs/robustness.md): a build with clang,
 # AddressSanitizer and UndefinedBehaviorSanitizer into ${SANITIZE_BUILD_DIR:-build-sanitize} of
-# what this pass runs (no benchmarks, packages or system tests; the model once more with its
-# run-time dispatch off), then the unit and process tests and every fuzz target fuzzing for
-# ${VOLCOMP_FUZZ_SECONDS:-30} s from its committed corpus, side by side. Any sanitizer report,
+# what this pass runs (no benchmarks, packages, system tests or LinuxCNC program; the model once
+# more with its run-time dispatch off), then the unit and process tests and every fuzz target
+# fuzzing for ${VOLCOMP_FUZZ_SECONDS:-30} s from its committed corpus, side by side. Any sanitizer report,
 # fuzz finding or failed test fails the pass. Extra arguments go to ctest.
 #
 #   robustness.sh [CTEST_ARGS...]          build, then test
@@ -30,7 +30,7 @@ for step in "${steps[@]}"; do
     CC=clang CXX=clang++ cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DVOLCOMP_WERROR="$werror" \
       -DVOLCOMP_SANITIZE=ON -DVOLCOMP_FUZZ=ON -DVOLCOMP_BUILD_BENCH=OFF -DVOLCOMP_BUILD_PACKAGE=OFF \
-      -DVOLCOMP_SYSTEM_TESTS=OFF -DVOLCOMP_MODEL_BASELINE_VARIANT=ON \
+      -DVOLCOMP_SYSTEM_TESTS=OFF -DVOLCOMP_MODEL_BASELINE_VARIANT=ON -DVOLCOMP_LINUXCNC=OFF \
       -DVOLCOMP_FUZZ_SECONDS="$seconds" >/dev/null
     cmake --build "$build" -j "$(nproc)"
   else

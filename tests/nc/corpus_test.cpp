@@ -196,7 +196,9 @@ TEST_P(CorpusProgram, CompensatedAndCheckedOrRejectedAtALine) {
   }
   const auto expected = expectedOutcomes();
   const auto it = expected.find(GetParam());
-  if (it != expected.end()) EXPECT_EQ(o.category, it->second);
+  if (it != expected.end()) {
+    EXPECT_EQ(o.category, it->second);
+  }
 }
 
 std::string testName(const ::testing::TestParamInfo<std::string>& info) {

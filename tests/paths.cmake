@@ -11,19 +11,19 @@
 # one of the build tree, target:OTHER the file another target builds (e.g. volcomp; TARGET then
 # depends on it). Each NAME becomes a macro of TARGET's sources
 # that gives a std::string.
-file(RELATIVE_PATH VOLCOMP_TEST_SOURCE_FROM_BUILD ${CMAKE_BINARY_DIR} ${PROJECT_SOURCE_DIR})
-if(VOLCOMP_TEST_SOURCE_FROM_BUILD STREQUAL "")
-  set(VOLCOMP_TEST_SOURCE_FROM_BUILD .)
-endif()
-set(VOLCOMP_TEST_PATHS_HEADER ${PROJECT_SOURCE_DIR}/tests/testutil/test_paths.hpp)
-
 function(volcomp_test_paths target)
+  # Computed here, not at the file's scope: fuzz/ calls this too, from a directory that does not
+  # see tests/' variables.
+  file(RELATIVE_PATH source_from_build ${CMAKE_BINARY_DIR} ${PROJECT_SOURCE_DIR})
+  if(source_from_build STREQUAL "")
+    set(source_from_build .)
+  endif()
   file(RELATIVE_PATH binary_dir ${CMAKE_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR})
   if(binary_dir STREQUAL "")
     set(binary_dir .)
   endif()
   set(definitions VOLCOMP_TEST_BINARY_DIR="${binary_dir}"
-                  VOLCOMP_TEST_SOURCE_FROM_BUILD="${VOLCOMP_TEST_SOURCE_FROM_BUILD}")
+                  VOLCOMP_TEST_SOURCE_FROM_BUILD="${source_from_build}")
   foreach(item IN LISTS ARGN)
     if(item MATCHES "^([A-Z0-9_]+)=source:(.*)$")
       list(APPEND definitions "${CMAKE_MATCH_1}=volcomp_test_source_path(\"${CMAKE_MATCH_2}\")")
@@ -39,5 +39,6 @@ function(volcomp_test_paths target)
     endif()
   endforeach()
   target_compile_definitions(${target} PRIVATE ${definitions})
-  target_compile_options(${target} PRIVATE -include ${VOLCOMP_TEST_PATHS_HEADER})
+  target_compile_options(${target} PRIVATE
+                         "SHELL:-include ${PROJECT_SOURCE_DIR}/tests/testutil/test_paths.hpp")
 endfunction()

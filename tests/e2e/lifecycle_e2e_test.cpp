@@ -184,23 +184,24 @@ TEST_F(Lifecycle, NotifiesReadyWatchdogStatusAndStopping) {
   startBoth({"--port", "0", "--event", "0:drop-link:1"},
             {"NOTIFY_SOCKET=" + notify_->path(), "WATCHDOG_USEC=200000"},
             /*watchdogPid=*/true);
-  // Until the simulator has seen a write, nothing sent so far may be READY=1: every datagram
-  // sent before a status reply is already queued on the socket when it is drained.
+  // READY=1 comes after the first good cycle, so the simulator has counted a write by the time
+  // READY=1 is in the socket: a status asked for after READY=1 has been received must show one.
+  // (Asking first and draining after would race: READY=1 may arrive between the two.)
   bool ready = false;
   ASSERT_TRUE(testutil::waitUntil(
       [&] {
-        const json s = simStatus();
-        const bool written = s.is_object() && s["writes"].get<int>() > 0;
         while (auto m = notify_->receive(0ms)) {
-          if (NotifyListener::hasLine(*m, "READY=1")) {
-            EXPECT_TRUE(written) << "READY=1 before the first write reached the controller";
-            ready = true;
-          }
+          if (NotifyListener::hasLine(*m, "READY=1")) ready = true;
         }
         return ready;
       },
       10s))
       << daemonLog();
+  {
+    const json s = simStatus();
+    ASSERT_TRUE(s.is_object());
+    EXPECT_GT(s["writes"].get<int>(), 0) << "READY=1 before the first write reached the controller";
+  }
   const auto firstStatus = notify_->waitFor("WATCHDOG=1", 2s);
   ASSERT_TRUE(firstStatus) << "no WATCHDOG=1 with WATCHDOG_PID set to the daemon's pid";
   // Count pings over two STATUS periods (2 s): at 200 ms / 4 = 50 ms there are ~40.

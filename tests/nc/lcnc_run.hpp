@@ -40,7 +40,9 @@ inline Command rs274(const TempDir& dir, const std::string& program, const std::
                      const std::string& toolTable) {
   const std::filesystem::path copy = dir.path() / "rs274-parameters.var";
   std::filesystem::copy_file(varFile, copy, std::filesystem::copy_options::overwrite_existing);
-  std::string line = "rs274 -g";
+  // rs274 keeps its tool table in $HOME/.tool.mmap; two at once on one file die of SIGBUS when
+  // one truncates it under the other, so each test gives rs274 a home of its own.
+  std::string line = "HOME=" + quoted(dir.path().string()) + " rs274 -g";
   if (!toolTable.empty()) line += " -t " + quoted(toolTable);
   line += " -v " + quoted(copy.string()) + " " + quoted(program);
   return runCommand(dir, line);

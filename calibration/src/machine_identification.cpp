@@ -22,8 +22,6 @@ namespace {
 
 using config::ConfigError;
 
-constexpr double kTranslationStepMm = 1e-3;
-constexpr double kRotationStepRad = 1e-6;
 constexpr double kFrameStep = 1e-7;
 
 std::string powerUnit(const std::string& unit, int power) {

@@ -13,6 +13,11 @@
 
 namespace volcomp::calibration::detail {
 
+/// Central-difference steps of the numeric derivatives with respect to a translation (mm) and a
+/// rotation (rad) parameter: small against any error, large against rounding of the model.
+inline constexpr double kTranslationStepMm = 1e-3;
+inline constexpr double kRotationStepRad = 1e-6;
+
 struct IdentifySpec {
   enum class Basis { Constant, Polynomial, Table };
   Basis basis = Basis::Constant;

@@ -17,9 +17,6 @@
 namespace volcomp::calibration::detail {
 namespace {
 
-constexpr double kTranslationStepMm = 1e-3;
-constexpr double kRotationStepRad = 1e-6;
-
 // The function plus a constant: every basis the model has is exact under it.
 void shift(model::ErrorFunctionSpec& function, double step) {
   if (double* constant = std::get_if<double>(&function)) {

@@ -8,11 +8,6 @@ namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
-struct Context {
-  const ParseOptions& options;
-  ModelDocument& doc;
-};
-
 // A deviation is a number or, in a calibration template, {"identify": ..., "start": number}.
 double readDeviation(const JsonReader& node, double factor, const Context& ctx) {
   if (const auto block = readIdentifyBlock(node, ctx.options, ctx.doc)) {

@@ -32,11 +32,6 @@ const std::array<std::string, 9> kLocationNames = [] {
   return names;
 }();
 
-struct Context {
-  const ParseOptions& options;
-  ModelDocument& doc;
-};
-
 std::vector<double> scaled(std::vector<double> values, double factor) {
   for (double& v : values) v *= factor;
   return values;

@@ -20,6 +20,12 @@ void parseMachineDocument(const JsonReader& root, const ParseOptions& options, M
 /// Fills doc.spec with a DhChainSpec (and doc.identify) from a document holding "chain".
 void parseChainDocument(const JsonReader& root, const ParseOptions& options, ModelDocument& doc);
 
+/// What a parser of one document passes down to the readers of its parts.
+struct Context {
+  const ParseOptions& options;
+  ModelDocument& doc;
+};
+
 /// In a calibration template a value may be {"identify": HOW, "start": VALUE}.
 struct IdentifyBlock {
   std::optional<JsonReader> start;  ///< VALUE, when given (else the value starts at 0)

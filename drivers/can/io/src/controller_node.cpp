@@ -2,20 +2,12 @@
 
 #include <algorithm>
 
+#include "kernel_filter.hpp"
+
 namespace volcomp::can {
-namespace {
 
-constexpr std::size_t index(Field f) noexcept {
-  return static_cast<std::size_t>(f);
-}
-
-can_filter filterFor(std::uint32_t id, bool extended) noexcept {
-  return extended ? can_filter{(id & CAN_EFF_MASK) | CAN_EFF_FLAG,
-                               CAN_EFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG}
-                  : can_filter{id & CAN_SFF_MASK, CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG};
-}
-
-}  // namespace
+using detail::filterFor;
+using detail::index;
 
 CanControllerNode::CanControllerNode(asio::io_context& io, CanLayout layout)
     : layout_(std::move(layout)), channel_(io, *this) {

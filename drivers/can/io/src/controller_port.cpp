@@ -2,6 +2,7 @@
 
 #include <linux/can/error.h>
 
+#include "kernel_filter.hpp"
 #include "volcomp/can/errors.hpp"
 
 namespace volcomp::can {
@@ -12,22 +13,14 @@ using Clock = std::chrono::steady_clock;
 constexpr can_err_mask_t kErrorClasses = CAN_ERR_CRTL | CAN_ERR_BUSOFF | CAN_ERR_RESTARTED;
 constexpr std::size_t kMaxKernelFilters = 32;
 
-can_filter filterFor(std::uint32_t id, bool extended) noexcept {
-  // Matching the EFF and RTR flags too keeps remote requests and the other identifier format out.
-  return extended ? can_filter{(id & CAN_EFF_MASK) | CAN_EFF_FLAG,
-                               CAN_EFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG}
-                  : can_filter{id & CAN_SFF_MASK, CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG};
-}
-
 constexpr std::uint64_t lowMask(unsigned bits) noexcept {
   return bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << bits) - 1;
 }
 
-constexpr std::size_t index(Field f) noexcept {
-  return static_cast<std::size_t>(f);
-}
-
 }  // namespace
+
+using detail::filterFor;
+using detail::index;
 
 CanControllerPort::CanControllerPort(CanLayout layout)
     : layout_(std::move(layout)), channel_(io_, *this) {

@@ -445,7 +445,7 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
   envelope_.widen(before.offsetMm, command_.offsetMm);
 }
 
-CycleReport CompensationLoop::finish(CycleReport& report) noexcept {
+[[gnu::always_inline]] inline CycleReport CompensationLoop::finish(CycleReport& report) noexcept {
   state_ = LoopState::Finished;
   report.state = state_;
   return report;
@@ -467,7 +467,7 @@ bool CompensationLoop::reconnect(time_point now, CycleReport& report) noexcept {
   return true;
 }
 
-void CompensationLoop::armStopDeadline(time_point now) noexcept {
+[[gnu::always_inline]] inline void CompensationLoop::armStopDeadline(time_point now) noexcept {
   if (!stopRequested_ || stopDeadlineSet_) return;
   stopDeadlineSet_ = true;
   // Twice the ramp time plus a second: enough for the ramp with a few failed writes, and
@@ -480,7 +480,8 @@ void CompensationLoop::armStopDeadline(time_point now) noexcept {
 }
 
 // One read transaction into sample_, with when the controller sampled it.
-std::error_code CompensationLoop::readInputs(time_point readAt, time_point requestAt) noexcept {
+[[gnu::always_inline]] inline std::error_code CompensationLoop::readInputs(
+    time_point readAt, time_point requestAt) noexcept {
   const std::error_code readError = port_.read(sample_);
   // The controller answered somewhere inside the transaction: its middle is the best guess,
   // unless the controller says when it latched the positions.
@@ -500,8 +501,9 @@ std::error_code CompensationLoop::readInputs(time_point readAt, time_point reque
 
 // Returns false when the cycle ends with this read: the link is gone, or the loop is starting and
 // may write nothing until the applied offsets are known.
-bool CompensationLoop::takeReading(time_point readAt, std::error_code readError,
-                                   CycleReport& report) noexcept {
+[[gnu::always_inline]] inline bool CompensationLoop::takeReading(time_point readAt,
+                                                                 std::error_code readError,
+                                                                 CycleReport& report) noexcept {
   if (readError) {
     report.error = readError;
     if (isLinkError(readError)) {
@@ -531,8 +533,8 @@ bool CompensationLoop::takeReading(time_point readAt, std::error_code readError,
 
 // Read, decide, and check that the read is still fresh when the write is due; once more if it is
 // not (the process was stopped or starved between the two, or the read was slow).
-CompensationLoop::Reading CompensationLoop::readAndDecide(time_point now,
-                                                          CycleReport& report) noexcept {
+[[gnu::always_inline]] inline CompensationLoop::Reading CompensationLoop::readAndDecide(
+    time_point now, CycleReport& report) noexcept {
   Reading reading;
   for (int attempt = 0; attempt < 2 && !reading.fresh; ++attempt) {
     const time_point readAt = attempt == 0 ? now : clock_.now();
@@ -552,8 +554,11 @@ CompensationLoop::Reading CompensationLoop::readAndDecide(time_point now,
 }
 
 // A stop past its deadline finishes instead: it must not be held up by what withholds the write.
-CycleReport CompensationLoop::withhold(Withheld reason, LoopState state, FaultCode fault,
-                                       bool pastStopDeadline, CycleReport& report) noexcept {
+[[gnu::always_inline]] inline CycleReport CompensationLoop::withhold(Withheld reason,
+                                                                     LoopState state,
+                                                                     FaultCode fault,
+                                                                     bool pastStopDeadline,
+                                                                     CycleReport& report) noexcept {
   if (pastStopDeadline) return finish(report);
   ++counters_.withheldWrites;
   report.withheld = reason;
@@ -571,7 +576,8 @@ CycleReport CompensationLoop::withhold(Withheld reason, LoopState state, FaultCo
 // equals counting from the send when the last write was not delayed, and takes off the delay when
 // it was (a write stuck in a queue that reaches the controller just before this one). A write
 // that got no reply counts from when the loop gave up on it.
-double CompensationLoop::stepSeconds(time_point writeAt) const noexcept {
+[[gnu::always_inline]] inline double CompensationLoop::stepSeconds(
+    time_point writeAt) const noexcept {
   if (!sentAny_) return seconds(settings_.period);
   return seconds(std::clamp<std::chrono::nanoseconds>(
       writeAt - lastWriteEnd_ + roundTrips_.min(), std::chrono::nanoseconds(0),
@@ -580,15 +586,17 @@ double CompensationLoop::stepSeconds(time_point writeAt) const noexcept {
 
 // No value within one step of everything the controller may be applying: writing nothing is then
 // the only output that cannot jump.
-bool CompensationLoop::limit(time_point writeAt, Decision& d, const LimiterState& before,
-                             LimiterOutput& out) noexcept {
+[[gnu::always_inline]] inline bool CompensationLoop::limit(time_point writeAt, Decision& d,
+                                                           const LimiterState& before,
+                                                           LimiterOutput& out) noexcept {
   const double dtS = stepSeconds(writeAt);
   out = limitStep(settings_.limiter, limiter_, d.targetMm, dtS);
   if (out.invalidTarget && d.fault == FaultCode::None) {
     d.fault = FaultCode::ModelInvalid;
     d.next = stopRequested_ ? LoopState::Stopping : LoopState::Fault;
   }
-  if (!envelope_.constrain(settings_.limiter, before, dtS, limiter_)) {
+  // Nothing uncertain is the rule: no call into the envelope then.
+  if (envelope_.uncertain() && !envelope_.constrain(settings_.limiter, before, dtS, limiter_)) {
     limiter_ = before;
     return false;
   }
@@ -602,8 +610,10 @@ bool CompensationLoop::limit(time_point writeAt, Decision& d, const LimiterState
 
 // The decided state is taken before the write, so that a write that finds the link gone leaves
 // the loop in LinkLost. The last write of a stop is zero offsets with status 0 ("inactive").
-bool CompensationLoop::send(time_point writeAt, const Decision& d, const LimiterState& before,
-                            const LimiterOutput& out, CycleReport& report) noexcept {
+[[gnu::always_inline]] inline bool CompensationLoop::send(time_point writeAt, const Decision& d,
+                                                          const LimiterState& before,
+                                                          const LimiterOutput& out,
+                                                          CycleReport& report) noexcept {
   std::uint16_t status = statusWord(d, out, writeAt);
   const bool lastOfStop = d.next == LoopState::Stopping && limiterAtZero(limiter_);
   if (lastOfStop) status = 0;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <ostream>
 #include <variant>
@@ -13,6 +12,7 @@
 #include "volcomp/config/display_units.hpp"
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/config/model_plausibility.hpp"
+#include "volcomp/format/numbers.hpp"
 #include "volcomp/model/dh_chain.hpp"
 #include "volcomp/model/machine_model.hpp"
 
@@ -25,9 +25,7 @@ constexpr int kPolynomialSamples = 1001;
 // A summary is read by people: 15 significant digits hide the last-bit noise of unit conversions
 // (0.0010835 deg, not 0.0010835000000000003).
 std::string formatDouble(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.15g", value + 0.0);
-  return buffer;
+  return format::general(value + 0.0, 15);
 }
 
 std::string range(double lo, double hi) {

@@ -1,7 +1,6 @@
 #include "iso230_2_verb.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <ostream>
 #include <vector>
@@ -10,6 +9,7 @@
 
 #include "cli_support.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/format/numbers.hpp"
 #include "volcomp/metrology/iso230_2.hpp"
 #include "volcomp/metrology/iso230_2_json.hpp"
 #include "volcomp/metrology/iso230_2_model.hpp"
@@ -31,15 +31,7 @@ std::vector<std::filesystem::path> inputsOf(const Iso230Options& options) {
 
 /// mm -> um with 4 significant digits, at most 3 decimals (sub-nm digits mean nothing here).
 std::string um(double valueMm) {
-  const double value = valueMm * 1000.0;
-  int decimals = 3;
-  if (value != 0.0) {
-    decimals = 3 - static_cast<int>(std::floor(std::log10(std::abs(value))));
-    decimals = decimals < 0 ? 0 : (decimals > 3 ? 3 : decimals);
-  }
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
+  return format::fixedSignificant(valueMm * 1000.0, 4, 3);
 }
 
 std::string column(const std::string& text, int width) {

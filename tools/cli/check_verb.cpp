@@ -49,8 +49,9 @@ void describeMotion(std::ostream& out, const model::MachineModelSpec& spec, int 
                     const config::ErrorUnits& units) {
   const model::ErrorFunctionSpec& f = spec.motion[index];
   const bool translation = index % 6 < 3;
-  const double factor = translation ? units.lengthToMm : units.angleToRad;
-  const std::string unit = translation ? units.length : units.angle;
+  const double factor = translation ? units.lengthToMm() : units.angleToRad();
+  const std::string unit =
+      translation ? config::unitName(units.length) : config::unitName(units.angle);
   const auto& travel = spec.travelMm[index / 6];
   std::string line = "  " + model::motionName(index) + "  ";
   if (const double* c = std::get_if<double>(&f)) {
@@ -151,7 +152,8 @@ void describeMachine(std::ostream& out, const model::MachineModelSpec& spec,
   };
   out << "tool        " << vec(spec.toolMm) << " mm\n"
       << "workpiece   " << vec(spec.workpieceMm) << " mm\n"
-      << "error units length " << doc.units.length << ", angle " << doc.units.angle << '\n';
+      << "error units length " << config::unitName(doc.units.length) << ", angle "
+      << config::unitName(doc.units.angle) << '\n';
   int motionCount = 0;
   for (int i = 0; i < 18; ++i) {
     const double* c = std::get_if<double>(&spec.motion[i]);
@@ -168,8 +170,8 @@ void describeMachine(std::ostream& out, const model::MachineModelSpec& spec,
   for (int i = 0; i < 9; ++i) {
     if (spec.locationRad[i] == 0.0) continue;
     out << "  " << model::locationName(i) << " constant, value "
-        << formatDouble(spec.locationRad[i] / doc.units.angleToRad) << " " << doc.units.angle
-        << '\n';
+        << formatDouble(spec.locationRad[i] / doc.units.angleToRad()) << " "
+        << config::unitName(doc.units.angle) << '\n';
   }
   out << "grids       " << spec.grids.size() << '\n';
   for (const model::GridSpec& g : spec.grids) {
@@ -187,8 +189,8 @@ void describeMachine(std::ostream& out, const model::MachineModelSpec& spec,
           << "XYZ"[static_cast<int>(g.over[l])] << ' '
           << range(g.axesMm[l].front(), g.axesMm[l].back());
     }
-    out << " mm, peak |value| " << formatDouble(peakOf(g.valuesMm) / doc.units.lengthToMm) << ' '
-        << doc.units.length << '\n';
+    out << " mm, peak |value| " << formatDouble(peakOf(g.valuesMm) / doc.units.lengthToMm()) << ' '
+        << config::unitName(doc.units.length) << '\n';
   }
 }
 

@@ -95,10 +95,8 @@ void writeModelTable(const Iso230Options& options, const Iso230Result& result, s
   const int index = model::motionIndex(axis, static_cast<model::MotionKind>(axis));
   model::MachineModelSpec spec;
   config::ErrorUnits units;
-  units.length = "um";
-  units.lengthToMm = 1e-3;
-  units.angle = "urad";
-  units.angleToRad = 1e-6;
+  units.length = config::LengthUnit::Micrometre;
+  units.angle = config::AngleUnit::Microradian;
   if (!options.mergePath.empty()) {
     config::ModelDocument document = config::loadModelFile(options.mergePath);
     auto* machine = std::get_if<model::MachineModelSpec>(&document.spec);

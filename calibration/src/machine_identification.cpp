@@ -697,7 +697,10 @@ std::vector<Curve> MachineIdentification::curves() const {
     std::vector<Curve> perDirection;
     for (model::Direction direction : directions) {
       Curve curve = base;
-      if (spec.bidirectional) curve.direction = direction == model::Direction::Positive ? "+" : "-";
+      if (spec.bidirectional) {
+        curve.direction = direction == model::Direction::Positive ? CurveDirection::Positive
+                                                                  : CurveDirection::Negative;
+      }
       std::vector<double> basis(static_cast<std::size_t>(component.count));
       for (double q : positions) {
         evaluateBasis(component, q, direction, basis.data());
@@ -711,7 +714,7 @@ std::vector<Curve> MachineIdentification::curves() const {
     }
     if (spec.bidirectional) {
       Curve reversal = base;
-      reversal.direction = "reversal";
+      reversal.direction = CurveDirection::Reversal;
       for (std::size_t k = 0; k < positions.size(); ++k) {
         reversal.gradients.push_back(perDirection[1].gradients[k] - perDirection[0].gradients[k]);
       }

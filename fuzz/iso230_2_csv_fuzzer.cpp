@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -14,7 +15,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace volcomp;
-  for (const char* axis : {"", "X"}) {
+  const std::optional<model::Axis> axes[] = {std::nullopt, model::Axis::X};
+  for (const std::optional<model::Axis> axis : axes) {
     std::istringstream in{std::string(fuzz::text(data, size))};
     try {
       const metrology::PositioningRuns runs = metrology::parsePositioningCsv(in, "fuzz.csv", axis);

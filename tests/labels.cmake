@@ -1,6 +1,6 @@
 # Test labels on two axes (included by tests/CMakeLists.txt):
 #
-# what is tested (the area): model, loop, config, cli, daemon, modbus, can, linuxcnc, nc,
+# what is tested (the area): format, model, loop, config, cli, daemon, modbus, can, linuxcnc, nc,
 #   calibration, metrology, report, package, fuzz;
 # what kind of test it is:
 #   unit     in process: a test executable alone, with loopback sockets, pseudo-terminals and

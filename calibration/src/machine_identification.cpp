@@ -100,8 +100,8 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
       lp.start = template_.locationRad[static_cast<std::size_t>(lp.index)];
       base.locationRad[static_cast<std::size_t>(lp.index)] = 0.0;
       locations_.push_back(lp);
-      info_.push_back(
-          {name, keyPath, units.angle, 1.0 / units.angleToRad, false, ParameterInfo::Kind::Angle});
+      info_.push_back({name, keyPath, config::unitName(units.angle), 1.0 / units.angleToRad(),
+                       false, ParameterInfo::Kind::Angle});
       continue;
     }
     auto motion = motionByName.find(name);
@@ -114,8 +114,8 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
     component.spec = spec;
     component.first = parameter;
     const bool angle = motion->second % 6 >= 3;
-    const std::string unit = angle ? units.angle : units.length;
-    const double toDisplay = angle ? 1.0 / units.angleToRad : 1.0 / units.lengthToMm;
+    const std::string unit = angle ? config::unitName(units.angle) : config::unitName(units.length);
+    const double toDisplay = angle ? 1.0 / units.angleToRad() : 1.0 / units.lengthToMm();
     const auto kind = angle ? ParameterInfo::Kind::Angle : ParameterInfo::Kind::Length;
     switch (spec.basis) {
       case IdentifySpec::Basis::Constant:
@@ -170,7 +170,8 @@ MachineIdentification::MachineIdentification(const config::ModelDocument& docume
   if (options.instrumentFrame) {
     frameFirst_ = parameter;
     parameter += 6;
-    appendFrameInfo(info_, units.length, units.lengthToMm, units.angle, units.angleToRad);
+    appendFrameInfo(info_, config::unitName(units.length), units.lengthToMm(),
+                    config::unitName(units.angle), units.angleToRad());
   }
   parameterCount_ = parameter;
   for (const Component& component : components_) {
@@ -694,7 +695,10 @@ std::vector<Curve> MachineIdentification::curves() const {
     std::vector<Curve> perDirection;
     for (model::Direction direction : directions) {
       Curve curve = base;
-      if (spec.bidirectional) curve.direction = direction == model::Direction::Positive ? "+" : "-";
+      if (spec.bidirectional) {
+        curve.direction = direction == model::Direction::Positive ? CurveDirection::Positive
+                                                                  : CurveDirection::Negative;
+      }
       std::vector<double> basis(static_cast<std::size_t>(component.count));
       for (double q : positions) {
         evaluateBasis(component, q, direction, basis.data());
@@ -708,7 +712,7 @@ std::vector<Curve> MachineIdentification::curves() const {
     }
     if (spec.bidirectional) {
       Curve reversal = base;
-      reversal.direction = "reversal";
+      reversal.direction = CurveDirection::Reversal;
       for (std::size_t k = 0; k < positions.size(); ++k) {
         reversal.gradients.push_back(perDirection[1].gradients[k] - perDirection[0].gradients[k]);
       }

@@ -58,13 +58,15 @@ Json curveJson(const SampledCurve& c) {
     relative.push_back(finiteOrNull(c.relativeStd[k] * c.curve.toDisplay));
   }
   Json out{{"component", c.curve.component},
-           {"direction", c.curve.direction.empty() ? Json(nullptr) : Json(c.curve.direction)},
+           {"direction", c.curve.direction == CurveDirection::Both
+                             ? Json(nullptr)
+                             : Json(curveDirectionName(c.curve.direction))},
            {"unit", c.curve.unit},
            {"positions_mm", c.curve.positionsMm},
            {"values", values},
            {"std", stds},
            {"std_relative_to_first", relative}};
-  if (c.curve.direction == "reversal") {
+  if (c.curve.direction == CurveDirection::Reversal) {
     out["mean"] = c.mean * c.curve.toDisplay;
     out["mean_std"] = finiteOrNull(c.meanStd * c.curve.toDisplay);
   }
@@ -220,7 +222,7 @@ nlohmann::json reportJson(const FitResult& fit, const std::vector<ParameterInfo>
     Json curves = Json::array();
     Json reversal = Json::array();
     for (const SampledCurve& c : context.curves) {
-      (c.curve.direction == "reversal" ? reversal : curves).push_back(curveJson(c));
+      (c.curve.direction == CurveDirection::Reversal ? reversal : curves).push_back(curveJson(c));
     }
     report["curves"] = curves;
     if (!reversal.empty()) report["reversal"] = reversal;

@@ -74,7 +74,10 @@ void curveTable(std::ostream& out, const std::vector<SampledCurve>& curves, Angl
         std::all_of(c.std.begin(), c.std.end(), [](double s) { return std::isfinite(s); });
     const bool shape = !absolute && std::all_of(c.relativeStd.begin(), c.relativeStd.end(),
                                                 [](double s) { return std::isfinite(s); });
-    out << "  " << c.curve.component << (c.curve.direction.empty() ? "" : " " + c.curve.direction)
+    out << "  " << c.curve.component
+        << (c.curve.direction == CurveDirection::Both
+                ? std::string()
+                : std::string(" ") + curveDirectionName(c.curve.direction))
         << " (" << unit.unit;
     if (shape) {
       out << "; its constant is not determined, sigma of the shape relative to "
@@ -87,7 +90,7 @@ void curveTable(std::ostream& out, const std::vector<SampledCurve>& curves, Angl
           << significant(c.values[k] * unit.factor, 4) << " ± "
           << significant(sigma[k] * unit.factor, 2);
     }
-    if (c.curve.direction == "reversal") {
+    if (c.curve.direction == CurveDirection::Reversal) {
       out << "; mean " << significant(c.mean * unit.factor, 4) << " ± "
           << significant(c.meanStd * unit.factor, 2);
     }

@@ -92,10 +92,7 @@ void parseChainDocument(const JsonReader& root, const ParseOptions& options, Mod
     doc.calibration = readCalibrationRecord(*calibration);
   }
   // The chain block states its own units (degrees, mm), whatever error_units would say.
-  doc.units.length = "mm";
-  doc.units.angle = "deg";
-  doc.units.lengthToMm = 1.0;
-  doc.units.angleToRad = kDegToRad;
+  doc.units = {LengthUnit::Millimetre, AngleUnit::Degree};
   doc.spec = std::move(spec);
 }
 

@@ -1,22 +1,16 @@
 #include "volcomp/config/display_units.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <stdexcept>
+
+#include "volcomp/format/numbers.hpp"
 
 namespace volcomp::config {
 
 std::string significant(double value) {
   if (!std::isfinite(value)) return value != value ? "nan" : (value > 0 ? "inf" : "-inf");
-  int decimals = 3;
-  if (value != 0.0) {
-    decimals = 3 - static_cast<int>(std::floor(std::log10(std::abs(value))));
-    decimals = decimals < 0 ? 0 : (decimals > 3 ? 3 : decimals);
-  }
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  std::string text = buffer;
+  std::string text = format::fixedSignificant(value, 4, 3);
   // Trailing zeros say nothing about precision here: "15.60" -> "15.6", "250.0" -> "250".
   if (text.find('.') != std::string::npos) {
     text.erase(text.find_last_not_of('0') + 1);

@@ -137,13 +137,12 @@ Eigen::Vector3d readVector3(const JsonReader& node) {
 ErrorUnits readUnits(const JsonReader& node) {
   node.allowOnly({"length", "angle"});
   ErrorUnits units;
+  // oneOf refuses, naming file, key and choices, any name the units do not have.
   if (const auto length = node.find("length")) {
-    units.length = length->oneOf({"mm", "um", "nm"});
-    units.lengthToMm = lengthUnitToMm(units.length, node.file(), length->path());
+    units.length = lengthUnitFromName(length->oneOf({"mm", "um", "nm"})).value();
   }
   if (const auto angle = node.find("angle")) {
-    units.angle = angle->oneOf({"rad", "mrad", "urad", "arcsec", "deg"});
-    units.angleToRad = angleUnitToRad(units.angle, node.file(), angle->path());
+    units.angle = angleUnitFromName(angle->oneOf({"rad", "mrad", "urad", "arcsec", "deg"})).value();
   }
   return units;
 }
@@ -184,12 +183,12 @@ void readComponents(const JsonReader& node, model::MachineModelSpec& spec, const
       known = true;
       const bool translation = i % 6 < 3;
       spec.motion[i] = readErrorFunction(
-          value, translation ? ctx.doc.units.lengthToMm : ctx.doc.units.angleToRad, ctx);
+          value, translation ? ctx.doc.units.lengthToMm() : ctx.doc.units.angleToRad(), ctx);
     }
     for (int i = 0; i < 9 && !known; ++i) {
       if (name != kLocationNames[i]) continue;
       known = true;
-      spec.locationRad[i] = readLocation(value, ctx.doc.units.angleToRad, ctx);
+      spec.locationRad[i] = readLocation(value, ctx.doc.units.angleToRad(), ctx);
     }
     if (!known) {
       value.fail(
@@ -241,7 +240,7 @@ model::GridSpec readGrid(const JsonReader& node, const Context& ctx) {
   const JsonReader axes = node.at("axes");
   axes.allowOnly(overNames);
   for (const std::string& name : overNames) grid.axesMm.push_back(readIncreasing(axes.at(name), 2));
-  readGridValues(node.at("values"), grid.axesMm, 0, ctx.doc.units.lengthToMm, grid.valuesMm);
+  readGridValues(node.at("values"), grid.axesMm, 0, ctx.doc.units.lengthToMm(), grid.valuesMm);
   return grid;
 }
 

@@ -2,12 +2,12 @@
 
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/format/numbers.hpp"
 #include "volcomp/model/dh_chain.hpp"
 #include "volcomp/model/machine_model.hpp"
 
@@ -21,9 +21,8 @@ bool finite(const Eigen::Vector3d& v) {
 }
 
 std::string position(const Eigen::Vector3d& q) {
-  char buffer[96];
-  std::snprintf(buffer, sizeof buffer, "X %g, Y %g, Z %g mm", q.x(), q.y(), q.z());
-  return buffer;
+  return "X " + format::general(q.x()) + ", Y " + format::general(q.y()) + ", Z " +
+         format::general(q.z()) + " mm";
 }
 
 // The values an axis takes in the check: its travel's ends and middle, or 0 without a travel.

@@ -131,12 +131,14 @@ void assessVolume(const model::MachineModel& model, ModelAssessment& a) {
 
 // "mm instead of um" is the mistake that makes values 1000 times too large; say so when it fits.
 std::string unitHint(const ModelDocument& doc, bool translation, double peak, double limit) {
-  const std::string& unit = translation ? doc.units.length : doc.units.angle;
+  const AngleUnit angleUnit = doc.units.angle;
   std::string hint;
-  if (translation && unit == "mm" && peak < 1000.0 * limit) {
+  if (translation && doc.units.length == LengthUnit::Millimetre && peak < 1000.0 * limit) {
     hint = " Were values in um entered as mm? Then set \"error_units\": {\"length\": \"um\"}.";
-  } else if (!translation && (unit == "rad" || unit == "mrad") && peak < 1e6 * limit) {
-    hint = " Were values in urad entered as " + unit +
+  } else if (!translation &&
+             (angleUnit == AngleUnit::Radian || angleUnit == AngleUnit::Milliradian) &&
+             peak < 1e6 * limit) {
+    hint = std::string(" Were values in urad entered as ") + unitName(angleUnit) +
            "? Then set \"error_units\": {\"angle\": \"urad\"}.";
   }
   return hint;
@@ -176,8 +178,8 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
     const double limit = translation ? limits.maxLengthMm : limits.maxAngleRad;
     const double peak = a.motionPeak[i];
     if (peak <= limit) continue;
-    const double factor = translation ? doc.units.lengthToMm : doc.units.angleToRad;
-    const std::string unit = translation ? doc.units.length : doc.units.angle;
+    const double factor = translation ? doc.units.lengthToMm() : doc.units.angleToRad();
+    const std::string unit = translation ? unitName(doc.units.length) : unitName(doc.units.angle);
     throw ConfigError(
         doc.file, "components." + model::motionName(i),
         "implausible for a machine tool: |value| reaches " + significant(peak / factor) + " " +
@@ -194,8 +196,8 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
                       "implausible for a machine tool: " +
                           angle(a.locationPeakRad[i], AngleDisplay::Microradian) + ", beyond " +
                           angle(limits.maxAngleRad, AngleDisplay::Microradian) + limitText + "." +
-                          unitHint(doc, false, a.locationPeakRad[i] / doc.units.angleToRad,
-                                   limits.maxAngleRad / doc.units.angleToRad) +
+                          unitHint(doc, false, a.locationPeakRad[i] / doc.units.angleToRad(),
+                                   limits.maxAngleRad / doc.units.angleToRad()) +
                           overrideHint());
   }
   for (std::size_t g = 0; g < a.gridPeakMm.size(); ++g) {
@@ -204,8 +206,8 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
                       "implausible for a machine tool: |value| reaches " +
                           micrometres(a.gridPeakMm[g]) + ", beyond " +
                           micrometres(limits.maxLengthMm) + limitText + "." +
-                          unitHint(doc, true, a.gridPeakMm[g] / doc.units.lengthToMm,
-                                   limits.maxLengthMm / doc.units.lengthToMm) +
+                          unitHint(doc, true, a.gridPeakMm[g] / doc.units.lengthToMm(),
+                                   limits.maxLengthMm / doc.units.lengthToMm()) +
                           overrideHint());
   }
   if (a.nonFiniteAtMm) {

@@ -69,9 +69,8 @@ const char* interpolationName(model::Interpolation interpolation) noexcept {
 }
 
 nlohmann::json writeModel(const model::MachineModelSpec& spec, const ErrorUnits& units) {
-  // Factors from the names, so that a hand-filled ErrorUnits cannot disagree with itself.
-  const double lengthToMm = lengthUnitToMm(units.length, "", "error_units.length");
-  const double angleToRad = angleUnitToRad(units.angle, "", "error_units.angle");
+  const double lengthToMm = units.lengthToMm();
+  const double angleToRad = units.angleToRad();
   Json out{{"format", "volcomp-model/1"}, {"topology", spec.topology}};
   if (!spec.name.empty()) out["name"] = spec.name;
   Json travel = Json::object();
@@ -84,7 +83,7 @@ nlohmann::json writeModel(const model::MachineModelSpec& spec, const ErrorUnits&
   if (!travel.empty()) out["travel"] = travel;
   out["tool"] = vector3(spec.toolMm);
   out["workpiece"] = vector3(spec.workpieceMm);
-  out["error_units"] = Json{{"length", units.length}, {"angle", units.angle}};
+  out["error_units"] = Json{{"length", unitName(units.length)}, {"angle", unitName(units.angle)}};
   Json components = Json::object();
   for (int i = 0; i < 18; ++i) {
     const double factor = i % 6 < 3 ? lengthToMm : angleToRad;

@@ -1,7 +1,6 @@
 // The raw views of the drivers for --probe: each prints what its last read and write carried, with
 // the drivers' pure codecs (modbus::describeInputs/Outputs, can::decodeRaw/decode) doing the
 // decoding exactly as the loop's reads do.
-#include <cstdio>
 #include <ostream>
 #include <string>
 #include <system_error>
@@ -10,21 +9,12 @@
 #include "volcomp/can/controller_port.hpp"
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/display_units.hpp"
+#include "volcomp/format/numbers.hpp"
 #include "volcomp/modbus/controller_port.hpp"
 #include "volcomp/modbus/register_plan.hpp"
 
 namespace volcomp::volcompd {
 namespace {
-
-std::string hexBytes(const std::uint8_t* bytes, std::size_t count) {
-  std::string text;
-  char buffer[4];
-  for (std::size_t i = 0; i < count; ++i) {
-    std::snprintf(buffer, sizeof buffer, "%02X", bytes[i]);
-    text += (i > 0 ? " " : "") + std::string(buffer);
-  }
-  return text;
-}
 
 std::string padded(std::string text, std::size_t width) {
   if (text.size() < width) text.append(width - text.size(), ' ');
@@ -34,9 +24,7 @@ std::string padded(std::string text, std::size_t width) {
 // A scale or counts factor as written in a DBC or register map (0.0001, 10000, 0.5): every
 // significant digit, unlike the 3-decimal display of measured values.
 std::string factor(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.10g", value);
-  return buffer;
+  return format::general(value, 10);
 }
 
 // A signal's raw bits as the integer they encode: two's complement for a signed signal.
@@ -50,9 +38,7 @@ std::string rawInteger(std::uint64_t raw, const can::SignalSpec& spec) {
 }
 
 std::string millimetres(double mm) {
-  char buffer[48];
-  std::snprintf(buffer, sizeof buffer, "%+.4f mm", mm);
-  return buffer;
+  return format::signedFixed(mm, 4) + " mm";
 }
 
 // ---- Modbus -------------------------------------------------------------------------------
@@ -114,7 +100,8 @@ void printReadings(std::ostream& out, const modbus::FieldReadings& readings) {
       decoded = std::to_string(r.word);
     }
     out << "  " << padded(r.name, 17) << padded(where, 34) << "raw "
-        << padded(hexBytes(bytes, static_cast<std::size_t>(2 * r.width)), 24) << decoded << '\n';
+        << padded(format::hexBytes({bytes, static_cast<std::size_t>(2 * r.width)}), 24) << decoded
+        << '\n';
   }
 }
 
@@ -160,10 +147,9 @@ void printFrames(std::ostream& out, const std::vector<can::FrameLayout>& layouts
                  const std::vector<can::Frame>& frames) {
   for (std::size_t i = 0; i < layouts.size() && i < frames.size(); ++i) {
     const can::Frame& frame = frames[i];
-    char id[16];
-    std::snprintf(id, sizeof id, layouts[i].extended ? "0x%08X" : "0x%03X", layouts[i].id);
-    out << "  frame " << id << " [" << static_cast<int>(frame.length) << "] "
-        << hexBytes(frame.data.data(), frame.length) << '\n';
+    out << "  frame " << format::hexId(layouts[i].id, layouts[i].extended) << " ["
+        << static_cast<int>(frame.length) << "] "
+        << format::hexBytes({frame.data.data(), frame.length}) << '\n';
     for (const can::FieldSignal& s : layouts[i].signals) {
       std::uint64_t raw = 0;
       double physical = 0.0;

@@ -2,22 +2,19 @@
 
 #include <algorithm>
 #include <charconv>
-#include <cstdio>
 #include <ostream>
 #include <stdexcept>
+
+#include "volcomp/format/numbers.hpp"
 
 namespace volcomp::metrology {
 namespace {
 
 /// Fixed-point text: LinuxCNC reads it with sscanf and Siemens part programs take decimals; 7
-/// decimals of a mm are 0.1 nm, finer than either controller resolves.
+/// decimals of a mm are 0.1 nm, finer than either controller resolves. A value that rounds to zero
+/// is written without its sign ("-0.000000" reads oddly).
 std::string fixed(double value, int decimals = 7) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  std::string text(buffer);
-  // A value that rounds to zero is written without its sign ("-0.000000" reads oddly).
-  if (text.front() == '-' && text.find_first_not_of("0.", 1) == std::string::npos) text.erase(0, 1);
-  return text;
+  return format::fixedUnsignedZero(value, decimals);
 }
 
 /// Shortest text that reads back to the same double.

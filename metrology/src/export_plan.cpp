@@ -1,9 +1,11 @@
 #include "volcomp/metrology/export_plan.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <set>
 #include <stdexcept>
+#include <string>
+
+#include "volcomp/format/numbers.hpp"
 
 namespace volcomp::metrology {
 namespace {
@@ -25,10 +27,9 @@ int squarenessIndex(Axis input, Axis output) {
 }
 
 std::string gridText(const AxisGrid& grid) {
-  char buffer[160];
-  std::snprintf(buffer, sizeof buffer, "%zu points every %g mm over [%g, %g] mm", grid.count,
-                grid.stepMm, grid.startMm, grid.endMm());
-  return buffer;
+  return std::to_string(grid.count) + " points every " + format::general(grid.stepMm) +
+         " mm over [" + format::general(grid.startMm) + ", " + format::general(grid.endMm()) +
+         "] mm";
 }
 
 /// Lines for every component present in the model that is not in `carried`.

@@ -1,5 +1,7 @@
 #include "volcomp/metrology/iso230_2_json.hpp"
 
+#include "volcomp/metrology/axis_tables.hpp"
+
 namespace volcomp::metrology {
 
 nlohmann::json toJson(const Iso230Result& result) {
@@ -42,7 +44,7 @@ nlohmann::json toJson(const Iso230Result& result) {
       {"format", kIso230JsonFormat},
       {"standard", "ISO 230-2:2014"},
       {"source", result.source},
-      {"axis", result.axis.empty() ? json(nullptr) : json(result.axis)},
+      {"axis", result.axis ? json(axisName(*result.axis)) : json(nullptr)},
       {"units", {{"position", "mm"}, {"deviation", "mm"}}},
       {"runs_positive", result.runsPositive},
       {"runs_negative", result.runsNegative},

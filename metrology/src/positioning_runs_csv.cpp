@@ -13,6 +13,7 @@
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/csv_table.hpp"
 #include "volcomp/config/printable.hpp"
+#include "volcomp/metrology/axis_tables.hpp"
 #include "volcomp/metrology/positioning_runs.hpp"
 
 namespace volcomp::metrology {
@@ -63,12 +64,13 @@ model::Direction parseDirection(const config::CsvReader& csv, int column) {
                quoted(csv.field(column)));
 }
 
-std::string normaliseAxis(std::string_view text) {
+// The axis column is written by hand and by laser software: any case, blanks around it.
+std::optional<model::Axis> axisOf(std::string_view text) {
   std::string axis(text);
   axis.erase(0, axis.find_first_not_of(" \t"));
   axis.erase(axis.find_last_not_of(" \t") + 1);
   for (char& c : axis) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return axis;
+  return model::axisFromName(axis);
 }
 
 void requireRunColumns(const config::CsvReader& csv) {
@@ -93,10 +95,9 @@ void requireRunColumns(const config::CsvReader& csv) {
 }  // namespace
 
 PositioningRuns parsePositioningCsv(std::istream& input, const std::string& file,
-                                    const std::string& axisFilter) {
+                                    std::optional<model::Axis> axisFilter) {
   PositioningRuns runs;
   runs.file = file;
-  const std::string wantedAxis = normaliseAxis(axisFilter);
   std::optional<config::CsvReader> reader;
   try {
     reader.emplace(input, file, runsSchema());
@@ -109,15 +110,15 @@ PositioningRuns parsePositioningCsv(std::istream& input, const std::string& file
   const int target = csv.column("target"), deviation = csv.column("deviation"),
             actual = csv.column("actual"), run = csv.column("run"),
             direction = csv.column("direction"), axisColumn = csv.column("axis");
-  std::set<std::string> axesSeen;
+  std::set<model::Axis> axesSeen;
   while (csv.next()) {
     if (axisColumn >= 0) {
-      const std::string axis = normaliseAxis(csv.field(axisColumn));
-      if (axis != "X" && axis != "Y" && axis != "Z") {
+      const std::optional<model::Axis> axis = axisOf(csv.field(axisColumn));
+      if (!axis) {
         csv.fail(axisColumn, "expected the axis X, Y or Z, got " + quoted(csv.field(axisColumn)));
       }
-      if (!wantedAxis.empty() && axis != wantedAxis) continue;
-      axesSeen.insert(axis);
+      if (axisFilter && *axis != *axisFilter) continue;
+      axesSeen.insert(*axis);
     }
     PositioningSample sample;
     sample.line = static_cast<int>(csv.line());
@@ -138,20 +139,22 @@ PositioningRuns parsePositioningCsv(std::istream& input, const std::string& file
   }
   if (axesSeen.size() > 1) {
     std::string list;
-    for (const std::string& axis : axesSeen) list += (list.empty() ? "" : ", ") + axis;
+    for (const model::Axis axis : axesSeen)
+      list += (list.empty() ? "" : ", ") + std::string(axisName(axis));
     throw ConfigError(file, "column axis",
                       "the file holds several axes (" + list + "): choose one with --axis");
   }
-  runs.axis = !wantedAxis.empty() ? wantedAxis : (axesSeen.empty() ? "" : *axesSeen.begin());
+  runs.axis = axisFilter;
+  if (!axisFilter && !axesSeen.empty()) runs.axis = *axesSeen.begin();
   if (runs.samples.empty()) {
-    throw ConfigError(
-        file, "",
-        wantedAxis.empty() ? "no readings after the header" : "no readings of axis " + wantedAxis);
+    throw ConfigError(file, "",
+                      axisFilter ? "no readings of axis " + std::string(axisName(*axisFilter))
+                                 : "no readings after the header");
   }
   return runs;
 }
 
-PositioningRuns readPositioningCsv(const std::string& path, const std::string& axisFilter) {
+PositioningRuns readPositioningCsv(const std::string& path, std::optional<model::Axis> axisFilter) {
   std::ifstream input = config::openTextFile(path);
   return parsePositioningCsv(input, path, axisFilter);
 }

@@ -8,6 +8,14 @@ constexpr char kKindLetter[6] = {'X', 'Y', 'Z', 'A', 'B', 'C'};
 constexpr char kRotationLetter[3] = {'A', 'B', 'C'};
 }  // namespace
 
+std::optional<Axis> axisFromName(std::string_view name) noexcept {
+  if (name.size() != 1) return std::nullopt;
+  for (std::uint8_t i = 0; i < 3; ++i) {
+    if (name[0] == kAxisLetter[i]) return static_cast<Axis>(i);
+  }
+  return std::nullopt;
+}
+
 std::string motionName(int index) {
   if (index < 0 || index >= 18) {
     throw ModelError("motion error index " + std::to_string(index) + " is outside 0..17");

@@ -90,7 +90,7 @@ Json isoChart(const IsoAxis& evaluated) {
                        "height");
   y["zero"] = true;
   y["nice"] = true;
-  const std::string a = evaluated.axis.empty() ? "axis" : evaluated.axis;
+  const std::string a = evaluated.axis ? axisName(*evaluated.axis) : "axis";
   return Json{
       {"width", 820},
       {"height", 260},

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "chart_parts.hpp"
 #include "charts.hpp"
 #include "page.hpp"
+#include "volcomp/format/numbers.hpp"
 
 namespace volcomp::report::charts {
 namespace {
@@ -122,9 +124,7 @@ Json rounded(double value, double quantum) {
   if (!std::isfinite(value)) return nullptr;
   const double r = std::round(value / quantum) * quantum;
   // Shortest text for the rounded number: strip the binary noise of r.
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.12g", r);
-  return std::strtod(buffer, nullptr);
+  return std::strtod(format::general(r, 12).c_str(), nullptr);
 }
 
 const char* axisColour(int axis) {

@@ -77,7 +77,12 @@ IsoAxis readIsoAxis(const json& document, const std::string& file, Notes& notes)
                       "--json)");
   IsoAxis axis;
   axis.file = file;
-  axis.axis = top.text("axis");
+  const std::string axisText = top.text("axis");
+  axis.axis = model::axisFromName(axisText);
+  if (!axisText.empty() && !axis.axis) {
+    notes.push_back(file + ": " + top.path("axis") + ": expected X, Y or Z, got \"" + axisText +
+                    "\"; not shown");
+  }
   axis.source = top.text("source");
   axis.standard = top.text("standard");
   double positionToMm = 1.0, deviationToUm = 1e3;

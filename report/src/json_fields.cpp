@@ -1,9 +1,9 @@
 #include "json_fields.hpp"
 
 #include <cmath>
-#include <cstdio>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/format/numbers.hpp"
 
 namespace volcomp::report::detail {
 
@@ -118,7 +118,7 @@ namespace {
 
 std::string scalarText(const json& value) {
   if (value.is_string()) return value.get<std::string>();
-  if (value.is_number()) return shortNumber(value.get<double>());
+  if (value.is_number()) return format::general(value.get<double>());
   return value.dump();
 }
 
@@ -152,12 +152,6 @@ void checkFormat(Fields& top, const std::string& family, const std::string& expe
     top.notes().push_back(top.file() + ": format " + format +
                           " is newer than this volcomp knows; the fields it knows are shown");
   }
-}
-
-std::string shortNumber(double value, int digits) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
-  return buffer;
 }
 
 }  // namespace volcomp::report::detail

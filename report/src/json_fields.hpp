@@ -58,7 +58,4 @@ class Fields {
 /// throws config::ConfigError naming `expected` (what the document should be) otherwise.
 void checkFormat(Fields& top, const std::string& family, const std::string& expected);
 
-/// A number shown with `digits` significant digits (no exponent for ordinary sizes).
-std::string shortNumber(double value, int digits = 6);
-
 }  // namespace volcomp::report::detail

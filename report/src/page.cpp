@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
+#include "volcomp/format/numbers.hpp"
 #include "volcomp/report/assets.hpp"
 
 namespace volcomp::report::detail {
@@ -37,10 +37,8 @@ std::string escape(std::string_view text) {
 
 std::string fixed(double value, int decimals) {
   if (!std::isfinite(value)) return "–";
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", std::clamp(decimals, 0, 9), std::abs(value));
   // No "−0.00": the sign is shown only when the printed digits are not all zero.
-  const std::string digits = buffer;
+  const std::string digits = format::fixed(std::abs(value), std::clamp(decimals, 0, 9));
   const bool zero = digits.find_first_not_of("0.") == std::string::npos;
   return (value < 0 && !zero ? "−" : "") + digits;
 }

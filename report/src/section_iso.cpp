@@ -38,7 +38,7 @@ void isoSection(Page& page, Context& context) {
   std::vector<std::pair<std::string, std::string>> subsections;
   for (const IsoAxis& axis : context.inputs.iso) {
     if (axis.targets.empty()) continue;
-    const std::string name = axis.axis.empty() ? "axis" : axis.axis;
+    const std::string name = axis.axis ? axisName(*axis.axis) : "axis";
     std::string id = "iso-" + name;
     for (char& c : id) {
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-') c = '_';

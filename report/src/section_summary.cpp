@@ -109,8 +109,8 @@ std::string leadText(const Context& context) {
     const IsoFigure* r = figure(axis, "R");
     const IsoFigure* b = figure(axis, "B");
     if (a == nullptr) continue;
-    text += " ISO 230-2 positioning of " + escape(axis.axis) + ": accuracy A = <b>" +
-            um(a->valueUm) + "</b>";
+    const std::string name = axis.axis ? axisName(*axis.axis) : "";
+    text += " ISO 230-2 positioning of " + name + ": accuracy A = <b>" + um(a->valueUm) + "</b>";
     if (r != nullptr) text += ", repeatability R = " + um(r->valueUm);
     if (b != nullptr) text += ", reversal B = " + um(b->valueUm);
     text += ".";
@@ -158,8 +158,8 @@ std::string cards(const Context& context) {
         detail += (detail.empty() ? "" : " · ") + std::string(symbol) + " " + um(f->valueUm);
       }
     }
-    out += card("ISO 230-2 accuracy " + axis.axis, fixed(a->valueUm, 1) + "<small> µm</small>",
-                detail);
+    const std::string name = axis.axis ? axisName(*axis.axis) : "";
+    out += card("ISO 230-2 accuracy " + name, fixed(a->valueUm, 1) + "<small> µm</small>", detail);
   }
   return out.empty() ? out : "<div class=\"cards\">\n" + out + "</div>\n";
 }

@@ -79,10 +79,13 @@ TEST(Bidirectional, BothCurvesAndTheReversalInOneFit) {
   // The reversal per node with its sigma: var(neg - pos) = var(neg) + var(pos) - 2 cov.
   const std::vector<Curve> curves = problem->curves();
   ASSERT_EQ(curves.size(), 3u);
-  EXPECT_EQ(curves[0].direction, "+");
-  EXPECT_EQ(curves[1].direction, "-");
+  EXPECT_EQ(curves[0].direction, CurveDirection::Positive);
+  EXPECT_EQ(curves[1].direction, CurveDirection::Negative);
+  EXPECT_STREQ(curveDirectionName(curves[0].direction), "+");
+  EXPECT_STREQ(curveDirectionName(curves[1].direction), "-");
   const Curve& reversal = curves[2];
-  EXPECT_EQ(reversal.direction, "reversal");
+  EXPECT_EQ(reversal.direction, CurveDirection::Reversal);
+  EXPECT_STREQ(curveDirectionName(reversal.direction), "reversal");
   for (std::size_t k = 0; k < kNodes.size(); ++k) {
     const double value = reversal.gradients[k].dot(fit.parameters);
     const auto j = static_cast<Eigen::Index>(k);

@@ -118,7 +118,7 @@ TEST_F(RunCalibrate, WritesALoadableModelAReportAndASummary) {
   // The output is an ordinary model file (no identify blocks), in the template's units.
   const config::ModelDocument model = config::loadModelFile(options.outPath);
   EXPECT_TRUE(model.identify.empty());
-  EXPECT_EQ(model.units.length, "um");
+  EXPECT_EQ(model.units.length, config::LengthUnit::Micrometre);
   const auto& spec = std::get<model::MachineModelSpec>(model.spec);
   EXPECT_EQ(spec.name, "test machine");
   const double ebx = std::get<double>(spec.motion[4]);

@@ -113,13 +113,13 @@ TEST(ModelFileRoundTrip, OtherUnitsToRounding) {
            {"um", "urad"}, {"nm", "arcsec"}, {"mm", "deg"}, {"um", "mrad"}}) {
     SCOPED_TRACE(length + " " + angle);
     ErrorUnits units;
-    units.length = length;
-    units.angle = angle;
+    units.length = lengthUnitFromName(length).value();
+    units.angle = angleUnitFromName(angle).value();
     const nlohmann::json written = writeModel(spec, units);
     EXPECT_EQ(written["error_units"]["length"], length);
     const ModelDocument doc = parseModel(written, "written.json");
-    EXPECT_EQ(doc.units.length, length);
-    EXPECT_EQ(doc.units.angle, angle);
+    EXPECT_EQ(unitName(doc.units.length), length);
+    EXPECT_EQ(unitName(doc.units.angle), angle);
     // One division and one multiplication by the unit factor: a few ulps.
     expectSameSpec(spec, std::get<model::MachineModelSpec>(doc.spec), 1e-15);
   }
@@ -130,8 +130,8 @@ TEST(ModelFileRoundTrip, WrittenValuesAreInTheFileUnits) {
   spec.motion[motionIndex(Axis::X, MotionKind::EX)] = 0.004;  // mm
   spec.locationRad[model::locationIndex(Axis::Y, 2)] = 2e-5;  // rad
   ErrorUnits units;
-  units.length = "um";
-  units.angle = "urad";
+  units.length = LengthUnit::Micrometre;
+  units.angle = AngleUnit::Microradian;
   const nlohmann::json written = writeModel(spec, units);
   EXPECT_DOUBLE_EQ(written["components"]["EXX"].get<double>(), 4.0);
   EXPECT_DOUBLE_EQ(written["components"]["EC0Y"].get<double>(), 20.0);

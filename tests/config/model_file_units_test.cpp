@@ -24,8 +24,8 @@ TEST(ModelFileUnits, DefaultsAreMillimetresAndRadians) {
       nlohmann::json::parse(
           R"({"format": "volcomp-model/1", "topology": "FXYZ", "components": {"EXX": 0.5, "EBX": 0.25}})"),
       "units.json");
-  EXPECT_EQ(doc.units.length, "mm");
-  EXPECT_EQ(doc.units.angle, "rad");
+  EXPECT_EQ(doc.units.length, LengthUnit::Millimetre);
+  EXPECT_EQ(doc.units.angle, AngleUnit::Radian);
   const auto& spec = std::get<model::MachineModelSpec>(doc.spec);
   EXPECT_EQ(std::get<double>(spec.motion[motionIndex(Axis::X, MotionKind::EX)]), 0.5);
   EXPECT_EQ(std::get<double>(spec.motion[motionIndex(Axis::X, MotionKind::EB)]), 0.25);
@@ -112,6 +112,28 @@ TEST(ModelFileUnits, EveryUnitName) {
   EXPECT_THROW(angleUnitToRad("grad", "f", "p"), ConfigError);
 }
 
+TEST(ModelFileUnits, EveryUnitHasOneNameAndItsFactor) {
+  for (const LengthUnit unit :
+       {LengthUnit::Millimetre, LengthUnit::Micrometre, LengthUnit::Nanometre}) {
+    SCOPED_TRACE(unitName(unit));
+    EXPECT_EQ(lengthUnitFromName(unitName(unit)), unit);
+    EXPECT_EQ(lengthUnitFactor(unitName(unit)), toMm(unit));
+    EXPECT_EQ((ErrorUnits{unit, AngleUnit::Radian}.lengthToMm()), toMm(unit));
+  }
+  for (const AngleUnit unit : {AngleUnit::Radian, AngleUnit::Milliradian, AngleUnit::Microradian,
+                               AngleUnit::Arcsecond, AngleUnit::Degree}) {
+    SCOPED_TRACE(unitName(unit));
+    EXPECT_EQ(angleUnitFromName(unitName(unit)), unit);
+    EXPECT_EQ(angleUnitFactor(unitName(unit)), toRad(unit));
+    EXPECT_EQ((ErrorUnits{LengthUnit::Millimetre, unit}.angleToRad()), toRad(unit));
+  }
+  EXPECT_EQ(toMm(LengthUnit::Micrometre), 1e-3);
+  EXPECT_EQ(toRad(AngleUnit::Degree), std::numbers::pi / 180.0);
+  EXPECT_FALSE(lengthUnitFromName("inch"));
+  EXPECT_FALSE(angleUnitFromName("grad"));
+  EXPECT_FALSE(lengthUnitFromName("MM"));
+}
+
 TEST(ModelFileUnits, ChainAnglesAreDegrees) {
   const ModelDocument doc = parseModel(nlohmann::json::parse(R"({
     "format": "volcomp-model/1", "name": "c", "chain": {"convention": "mdh", "links": [
@@ -143,7 +165,7 @@ TEST(ModelFileUnits, ChainAnglesAreDegrees) {
   EXPECT_EQ(l1.translationMm, Eigen::Vector3d(1, 2, 3));
   EXPECT_DOUBLE_EQ(l1.dRotationRad.x(), 0.1 * deg);
   EXPECT_DOUBLE_EQ(l1.dTranslationMm.z(), 0.004);
-  EXPECT_EQ(doc.units.angle, "deg");
+  EXPECT_EQ(doc.units.angle, AngleUnit::Degree);
 }
 
 }  // namespace

@@ -71,7 +71,7 @@ std::string handCsv() {
 
 Iso230Result evaluateHand() {
   std::istringstream in(handCsv());
-  return evaluateIso230_2(parsePositioningCsv(in, "hand.csv", "X"));
+  return evaluateIso230_2(parsePositioningCsv(in, "hand.csv", model::Axis::X));
 }
 
 /// Axis figures in um in the order B, B̄, R↑, R↓, R, E↑, E↓, E, M, A↑, A↓, A.
@@ -124,7 +124,7 @@ TEST(Iso230Hand, AxisFiguresMatchTheWorkedValues) {
   expectAxisFigures(r.figures, {4, -3.2, 8, 8, 10, 4, 5, 8, 4.5, 8, 11, 14});
   EXPECT_EQ(r.runsPositive, (std::vector<int>{1, 2, 3, 4, 5}));
   EXPECT_EQ(r.runsNegative, (std::vector<int>{1, 2, 3, 4, 5}));
-  EXPECT_EQ(r.axis, "X");
+  EXPECT_EQ(r.axis, model::Axis::X);
   EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
 }
 
@@ -146,7 +146,7 @@ TEST(Iso230Hand, ReversalOfTheAxisIsTheLargestMagnitude) {
   std::istringstream in(csv.str());
   const Iso230Result r = evaluateIso230_2(parsePositioningCsv(in, "b.csv"));
   expectAxisFigures(r.figures, {5, 0.2, 0, 0, 5, 5, 1, 5, 2, 5, 1, 5});
-  EXPECT_TRUE(r.axis.empty());
+  EXPECT_FALSE(r.axis);
 }
 
 TEST(Iso230Json, HoldsEveryFigureUnderItsDocumentedKey) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <sstream>
 
 #include "volcomp/config/config_error.hpp"
@@ -11,12 +12,12 @@
 namespace volcomp::metrology {
 namespace {
 
-PositioningRuns parse(const std::string& text, const std::string& axis = {}) {
+PositioningRuns parse(const std::string& text, std::optional<model::Axis> axis = std::nullopt) {
   std::istringstream in(text);
   return parsePositioningCsv(in, "runs.csv", axis);
 }
 
-std::string errorOf(const std::string& text, const std::string& axis = {}) {
+std::string errorOf(const std::string& text, std::optional<model::Axis> axis = std::nullopt) {
   try {
     evaluateIso230_2(parse(text, axis));
   } catch (const config::ConfigError& e) {
@@ -72,8 +73,8 @@ TEST(RunsCsv, NanometresAndInches) {
 TEST(RunsCsv, AxisColumnAndFilter) {
   const std::string text =
       "axis,run,direction,target_mm,deviation_um\nX,1,+,0,1\nY,1,+,0,2\nx,2,+,0,3\n";
-  const PositioningRuns x = parse(text, "x");
-  EXPECT_EQ(x.axis, "X");
+  const PositioningRuns x = parse(text, model::Axis::X);
+  EXPECT_EQ(x.axis, model::Axis::X);
   EXPECT_EQ(x.samples.size(), 2u);
   try {
     parse(text);
@@ -83,7 +84,11 @@ TEST(RunsCsv, AxisColumnAndFilter) {
               std::string::npos)
         << e.what();
   }
-  EXPECT_EQ(parse("run,direction,target_mm,deviation_um\n1,+,0,1\n", "Z").axis, "Z");
+  EXPECT_EQ(parse("run,direction,target_mm,deviation_um\n1,+,0,1\n", model::Axis::Z).axis,
+            model::Axis::Z);
+  EXPECT_FALSE(parse("run,direction,target_mm,deviation_um\n1,+,0,1\n").axis);
+  EXPECT_NE(errorOf(text, model::Axis::Z).find("no readings of axis Z"), std::string::npos)
+      << errorOf(text, model::Axis::Z);
 }
 
 TEST(RunsCsv, BadInputNamesFileLineAndColumn) {

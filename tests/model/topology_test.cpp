@@ -53,5 +53,12 @@ TEST(Types, Names) {
   EXPECT_THROW(locationName(-1), ModelError);
 }
 
+TEST(Types, AxisFromName) {
+  EXPECT_EQ(axisFromName("X"), Axis::X);
+  EXPECT_EQ(axisFromName("Y"), Axis::Y);
+  EXPECT_EQ(axisFromName("Z"), Axis::Z);
+  for (const char* bad : {"", "x", "W", "XY", " X", "X "}) EXPECT_FALSE(axisFromName(bad)) << bad;
+}
+
 }  // namespace
 }  // namespace volcomp::model

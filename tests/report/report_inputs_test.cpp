@@ -167,7 +167,7 @@ TEST(IsoAxisReader, ReadsEveryTargetAndFigureInMicrometres) {
   Notes notes;
   const IsoAxis x = loadIsoAxis((kData / "iso230-2-x.json").string(), notes);
   EXPECT_TRUE(notes.empty());
-  EXPECT_EQ(x.axis, "X");
+  EXPECT_EQ(x.axis, model::Axis::X);
   EXPECT_EQ(x.runsUp, 5);
   EXPECT_EQ(x.runsDown, 5);
   ASSERT_EQ(x.targets.size(), 11U);
@@ -184,12 +184,30 @@ TEST(IsoAxisReader, ReadsEveryTargetAndFigureInMicrometres) {
                    document["axis_figures"]["accuracy_bidirectional"].get<double>() * 1e3);
 }
 
+TEST(IsoAxisReader, AnAxisThatIsNoneOfXYZIsNotedAndLeftOut) {
+  Notes notes;
+  const IsoAxis w = readIsoAxis(
+      json::parse(R"({"format": "volcomp-iso230-2/1", "axis": "W", "targets": [{"position": 0}]})"),
+      "w.json", notes);
+  EXPECT_FALSE(w.axis);
+  ASSERT_EQ(notes.size(), 1U);
+  EXPECT_EQ(notes[0], "w.json: axis: expected X, Y or Z, got \"W\"; not shown");
+  notes.clear();
+  const IsoAxis none = readIsoAxis(
+      json::parse(
+          R"({"format": "volcomp-iso230-2/1", "axis": null, "targets": [{"position": 0}]})"),
+      "n.json", notes);
+  EXPECT_FALSE(none.axis);
+  EXPECT_TRUE(notes.empty());
+}
+
 TEST(IsoAxisReader, StatedUnitsAreConvertedAndOtherDocumentsRefused) {
   Notes notes;
   const IsoAxis um = readIsoAxis(json::parse(R"({"format": "volcomp-iso230-2/1", "axis": "Y",
     "units": {"position": "m", "deviation": "um"},
     "targets": [{"position": 0.25, "mean_positive": 1.5}], "axis_figures": {"reversal": 2}})"),
                                  "y.json", notes);
+  EXPECT_EQ(um.axis, model::Axis::Y);
   ASSERT_EQ(um.targets.size(), 1U);
   EXPECT_DOUBLE_EQ(um.targets[0].positionMm, 250.0);
   EXPECT_DOUBLE_EQ(*um.targets[0].meanUp, 1.5);

@@ -40,7 +40,7 @@ TEST(ReportVerb, ReadsWhatIso230TwoWrites) {
   Notes notes;
   const IsoAxis x = loadIsoAxis(jsonPath, notes);
   EXPECT_TRUE(notes.empty()) << notes.front();
-  EXPECT_EQ(x.axis, "X");
+  EXPECT_EQ(x.axis, model::Axis::X);
   EXPECT_EQ(x.runsUp, 5);
   EXPECT_EQ(x.runsDown, 5);
   EXPECT_EQ(x.targets.size(), 9U);

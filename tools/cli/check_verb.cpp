@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <ostream>
 #include <variant>
@@ -13,6 +12,7 @@
 #include "volcomp/config/display_units.hpp"
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/config/model_plausibility.hpp"
+#include "volcomp/format/numbers.hpp"
 #include "volcomp/model/dh_chain.hpp"
 #include "volcomp/model/machine_model.hpp"
 
@@ -25,9 +25,7 @@ constexpr int kPolynomialSamples = 1001;
 // A summary is read by people: 15 significant digits hide the last-bit noise of unit conversions
 // (0.0010835 deg, not 0.0010835000000000003).
 std::string formatDouble(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.15g", value + 0.0);
-  return buffer;
+  return format::general(value + 0.0, 15);
 }
 
 std::string range(double lo, double hi) {
@@ -51,8 +49,9 @@ void describeMotion(std::ostream& out, const model::MachineModelSpec& spec, int 
                     const config::ErrorUnits& units) {
   const model::ErrorFunctionSpec& f = spec.motion[index];
   const bool translation = index % 6 < 3;
-  const double factor = translation ? units.lengthToMm : units.angleToRad;
-  const std::string unit = translation ? units.length : units.angle;
+  const double factor = translation ? units.lengthToMm() : units.angleToRad();
+  const std::string unit =
+      translation ? config::unitName(units.length) : config::unitName(units.angle);
   const auto& travel = spec.travelMm[index / 6];
   std::string line = "  " + model::motionName(index) + "  ";
   if (const double* c = std::get_if<double>(&f)) {
@@ -153,7 +152,8 @@ void describeMachine(std::ostream& out, const model::MachineModelSpec& spec,
   };
   out << "tool        " << vec(spec.toolMm) << " mm\n"
       << "workpiece   " << vec(spec.workpieceMm) << " mm\n"
-      << "error units length " << doc.units.length << ", angle " << doc.units.angle << '\n';
+      << "error units length " << config::unitName(doc.units.length) << ", angle "
+      << config::unitName(doc.units.angle) << '\n';
   int motionCount = 0;
   for (int i = 0; i < 18; ++i) {
     const double* c = std::get_if<double>(&spec.motion[i]);
@@ -170,8 +170,8 @@ void describeMachine(std::ostream& out, const model::MachineModelSpec& spec,
   for (int i = 0; i < 9; ++i) {
     if (spec.locationRad[i] == 0.0) continue;
     out << "  " << model::locationName(i) << " constant, value "
-        << formatDouble(spec.locationRad[i] / doc.units.angleToRad) << " " << doc.units.angle
-        << '\n';
+        << formatDouble(spec.locationRad[i] / doc.units.angleToRad()) << " "
+        << config::unitName(doc.units.angle) << '\n';
   }
   out << "grids       " << spec.grids.size() << '\n';
   for (const model::GridSpec& g : spec.grids) {
@@ -189,8 +189,8 @@ void describeMachine(std::ostream& out, const model::MachineModelSpec& spec,
           << "XYZ"[static_cast<int>(g.over[l])] << ' '
           << range(g.axesMm[l].front(), g.axesMm[l].back());
     }
-    out << " mm, peak |value| " << formatDouble(peakOf(g.valuesMm) / doc.units.lengthToMm) << ' '
-        << doc.units.length << '\n';
+    out << " mm, peak |value| " << formatDouble(peakOf(g.valuesMm) / doc.units.lengthToMm()) << ' '
+        << config::unitName(doc.units.length) << '\n';
   }
 }
 

@@ -3,6 +3,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "volcomp/format/numbers.hpp"
+
 namespace volcomp::cli {
 
 std::string_view trim(std::string_view text) {
@@ -86,6 +88,10 @@ std::string formatDouble(double value) {
   std::string out;
   appendDouble(out, value);
   return out;
+}
+
+std::string fixedMicrometres(double mm) {
+  return format::fixed(mm * 1000.0, 3);
 }
 
 std::string axisList(std::uint8_t mask) {

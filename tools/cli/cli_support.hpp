@@ -39,6 +39,9 @@ std::string formatDouble(double value);
 /// Appends formatDouble(value) to `out` (no allocation beyond out's growth).
 void appendDouble(std::string& out, double value);
 
+/// A length in mm as µm with 3 decimals (nm), printf "%.3f" of mm * 1000: "12.345".
+std::string fixedMicrometres(double mm);
+
 /// Comma-separated names of the axes whose bit is set in `mask` ("X, Z").
 std::string axisList(std::uint8_t mask);
 

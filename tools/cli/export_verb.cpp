@@ -1,6 +1,5 @@
 #include "export_verb.hpp"
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -10,6 +9,7 @@
 
 #include "cli_support.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/format/text.hpp"
 #include "volcomp/metrology/controller_files.hpp"
 #include "volcomp/metrology/export_plan.hpp"
 #include "volcomp/metrology/remaining_error.hpp"
@@ -58,12 +58,6 @@ std::array<std::string, 3> parseNames(const std::string& text, const std::string
     names[i] = std::string(fields[i]);
   }
   return names;
-}
-
-std::string um(double mm) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3f", mm * 1000.0);
-  return buffer;
 }
 
 /// Every file goes through output::writeOutputFile: written whole or not at all, never over the
@@ -157,6 +151,12 @@ std::vector<std::string> writeSiemens(const ExportOptions& options, const Export
   return written;
 }
 
+/// "RMS" and "max" in µm, right-aligned in the summary's columns (10 and 11 wide).
+std::string rmsAndMax(const metrology::ErrorStatistics& e) {
+  return format::padLeft(fixedMicrometres(e.rmsMm), 10) +
+         format::padLeft(fixedMicrometres(e.maxMm), 11);
+}
+
 void printSummary(const ExportOptions& options, const ExportPlan& plan,
                   const std::vector<std::string>& written, const model::MachineModelSpec& spec,
                   std::ostream& out) {
@@ -182,15 +182,9 @@ void printSummary(const ExportOptions& options, const ExportPlan& plan,
   if (r.directionCombinations > 1) out << " x " << r.directionCombinations << " direction sets";
   out << ", um):\n"
       << "                            RMS        max\n"
-      << "  uncompensated      " << std::string(10 - um(r.uncompensated.rmsMm).size(), ' ')
-      << um(r.uncompensated.rmsMm) << std::string(11 - um(r.uncompensated.maxMm).size(), ' ')
-      << um(r.uncompensated.maxMm) << '\n'
-      << "  these tables only  " << std::string(10 - um(r.tablesOnly.rmsMm).size(), ' ')
-      << um(r.tablesOnly.rmsMm) << std::string(11 - um(r.tablesOnly.maxMm).size(), ' ')
-      << um(r.tablesOnly.maxMm) << '\n'
-      << "  live (volcompd)    " << std::string(10 - um(r.live.rmsMm).size(), ' ')
-      << um(r.live.rmsMm) << std::string(11 - um(r.live.maxMm).size(), ' ') << um(r.live.maxMm)
-      << '\n';
+      << "  uncompensated      " << rmsAndMax(r.uncompensated) << '\n'
+      << "  these tables only  " << rmsAndMax(r.tablesOnly) << '\n'
+      << "  live (volcompd)    " << rmsAndMax(r.live) << '\n';
   if (r.tablesOnly.rmsMm > r.uncompensated.rmsMm) {
     out << "  note: these tables alone leave a larger error than none: in this model the errors "
            "they\n"

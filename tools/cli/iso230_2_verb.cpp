@@ -1,7 +1,5 @@
 #include "iso230_2_verb.hpp"
 
-#include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <ostream>
 #include <vector>
@@ -10,6 +8,8 @@
 
 #include "cli_support.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/format/numbers.hpp"
+#include "volcomp/metrology/axis_tables.hpp"
 #include "volcomp/metrology/iso230_2.hpp"
 #include "volcomp/metrology/iso230_2_json.hpp"
 #include "volcomp/metrology/iso230_2_model.hpp"
@@ -31,15 +31,7 @@ std::vector<std::filesystem::path> inputsOf(const Iso230Options& options) {
 
 /// mm -> um with 4 significant digits, at most 3 decimals (sub-nm digits mean nothing here).
 std::string um(double valueMm) {
-  const double value = valueMm * 1000.0;
-  int decimals = 3;
-  if (value != 0.0) {
-    decimals = 3 - static_cast<int>(std::floor(std::log10(std::abs(value))));
-    decimals = decimals < 0 ? 0 : (decimals > 3 ? 3 : decimals);
-  }
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
+  return format::fixedSignificant(valueMm * 1000.0, 4, 3);
 }
 
 std::string column(const std::string& text, int width) {
@@ -50,7 +42,8 @@ std::string column(const std::string& text, int width) {
 
 void printTable(const Iso230Result& r, std::ostream& out) {
   out << "ISO 230-2:2014 positioning evaluation"
-      << (r.axis.empty() ? std::string() : ", axis " + r.axis) << " (" << r.source << ")\n"
+      << (r.axis ? std::string(", axis ") + metrology::axisName(*r.axis) : std::string()) << " ("
+      << r.source << ")\n"
       << r.targets.size() << " targets, " << r.runsPositive.size() << " runs \xE2\x86\x91, "
       << r.runsNegative.size() << " runs \xE2\x86\x93; deviations in um, positions in mm\n\n";
   const char* headers[] = {
@@ -88,25 +81,16 @@ void printTable(const Iso230Result& r, std::ostream& out) {
       << "  range of mean bidirectional M  " << column(um(a.meanBidirectionalRangeMm), 34) << '\n';
 }
 
-model::Axis parseAxis(const std::string& name) {
-  if (name == "X") return model::Axis::X;
-  if (name == "Y") return model::Axis::Y;
-  if (name == "Z") return model::Axis::Z;
-  throw UsageError("--axis: expected X, Y or Z, got \"" + name + "\"");
-}
-
 void writeModelTable(const Iso230Options& options, const Iso230Result& result, std::ostream& out) {
-  if (result.axis.empty()) {
+  if (!result.axis) {
     throw UsageError("--model-out: the CSV has no axis column; name the axis with --axis");
   }
-  const model::Axis axis = parseAxis(result.axis);
+  const model::Axis axis = *result.axis;
   const int index = model::motionIndex(axis, static_cast<model::MotionKind>(axis));
   model::MachineModelSpec spec;
   config::ErrorUnits units;
-  units.length = "um";
-  units.lengthToMm = 1e-3;
-  units.angle = "urad";
-  units.angleToRad = 1e-6;
+  units.length = config::LengthUnit::Micrometre;
+  units.angle = config::AngleUnit::Microradian;
   if (!options.mergePath.empty()) {
     config::ModelDocument document = config::loadModelFile(options.mergePath);
     auto* machine = std::get_if<model::MachineModelSpec>(&document.spec);
@@ -118,7 +102,7 @@ void writeModelTable(const Iso230Options& options, const Iso230Result& result, s
     units = document.units;
   } else {
     spec.name = "ISO 230-2 " + model::motionName(index) + " from " + result.source;
-    spec.topology = options.topology;
+    spec.topology = options.topology.value().text();
   }
   const model::Topology topology = model::Topology::parse(spec.topology);
   spec.motion[static_cast<std::size_t>(index)] =
@@ -127,15 +111,16 @@ void writeModelTable(const Iso230Options& options, const Iso230Result& result, s
   output::writeOutputFile(options.modelOutPath, document.dump(2) + '\n', inputsOf(options));
   out << "\nwrote " << model::motionName(index) << " (values from x\xCC\x84\xE2\x86\x91, "
       << "values_negative from x\xCC\x84\xE2\x86\x93, " << result.targets.size()
-      << " positions) to " << options.modelOutPath << ": axis " << result.axis << " is "
-      << (topology.isWorkpieceSide(axis) ? "workpiece-side in " : "tool-side in ")
+      << " positions) to " << options.modelOutPath << ": axis " << metrology::axisName(axis)
+      << " is " << (topology.isWorkpieceSide(axis) ? "workpiece-side in " : "tool-side in ")
       << topology.text() << ", so " << model::motionName(index) << " = "
       << (topology.isWorkpieceSide(axis) ? "-" : "+") << "x\xCC\x84\n";
 }
 
 }  // namespace
 
-CLI::App* addIso230Verb(CLI::App& app, Iso230Options& options) {
+CLI::App* addIso230Verb(CLI::App& app, Iso230Arguments& arguments) {
+  Iso230Options& options = arguments.options;
   CLI::App* verb = app.add_subcommand(
       "iso230-2",
       "ISO 230-2:2014 evaluation of a linear positioning test: reads the bidirectional runs "
@@ -146,7 +131,7 @@ CLI::App* addIso230Verb(CLI::App& app, Iso230Options& options) {
       "Refuses fewer than 5 runs per direction or 5 targets and runs that do not visit the same "
       "targets. See docs/iso230-2.md.");
   verb->add_option("runs", options.runsPath, "CSV of the runs")->required();
-  verb->add_option("--axis", options.axis,
+  verb->add_option("--axis", arguments.axis,
                    "Axis evaluated (X, Y, Z): selects its rows when the CSV has an axis column")
       ->transform(CLI::IsMember({"X", "Y", "Z"}, CLI::ignore_case));
   verb->add_option("--json", options.jsonPath,
@@ -155,7 +140,7 @@ CLI::App* addIso230Verb(CLI::App& app, Iso230Options& options) {
                    "Write the axis' positioning component (EXX, EYY or EZZ; values from "
                    "x\xCC\x84\xE2\x86\x91, values_negative from x\xCC\x84\xE2\x86\x93) as a model "
                    "file; needs --topology or --merge");
-  verb->add_option("--topology", options.topology,
+  verb->add_option("--topology", arguments.topology,
                    "Topology of the machine (e.g. XYFZ): decides the sign, EKK = +x\xCC\x84 on a "
                    "tool-side axis, -x\xCC\x84 on a workpiece-side axis");
   verb->add_option("--merge", options.mergePath,
@@ -167,21 +152,32 @@ CLI::App* addIso230Verb(CLI::App& app, Iso230Options& options) {
   return verb;
 }
 
-int runIso230(const Iso230Options& options, std::ostream& out, std::ostream& err) {
-  if (!options.modelOutPath.empty() && options.topology.empty() == options.mergePath.empty()) {
+void resolveIso230Arguments(Iso230Arguments& arguments) {
+  Iso230Options& options = arguments.options;
+  const bool topology = !arguments.topology.empty();
+  if (!options.modelOutPath.empty() && topology == !options.mergePath.empty()) {
     throw UsageError("--model-out needs exactly one of --topology and --merge");
   }
-  if (options.modelOutPath.empty() && !(options.topology.empty() && options.mergePath.empty())) {
+  if (options.modelOutPath.empty() && (topology || !options.mergePath.empty())) {
     throw UsageError("--topology and --merge only go with --model-out");
   }
-  // Arguments and the model to merge into are checked before anything is printed.
-  if (!options.topology.empty()) {
+  if (!arguments.axis.empty()) {
+    options.axis = model::axisFromName(arguments.axis);
+    if (!options.axis) {
+      throw UsageError("--axis: expected X, Y or Z, got \"" + arguments.axis + "\"");
+    }
+  }
+  if (topology) {
     try {
-      model::Topology::parse(options.topology);
+      options.topology = model::Topology::parse(arguments.topology);
     } catch (const model::ModelError& e) {
       throw UsageError(std::string("--topology: ") + e.what());
     }
   }
+}
+
+int runIso230(const Iso230Options& options, std::ostream& out, std::ostream& err) {
+  // The model to merge into is checked before anything is printed.
   if (!options.mergePath.empty()) config::loadModelFile(options.mergePath);
   const metrology::PositioningRuns runs =
       metrology::readPositioningCsv(options.runsPath, options.axis);

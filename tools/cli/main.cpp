@@ -56,8 +56,8 @@ int main(int argc, char** argv) {
   CalibrateArguments calibrateArguments;
   calibrateArguments.options.volcompVersion = VOLCOMP_VERSION;
   CLI::App* calibrate = addCalibrateVerb(app, calibrateArguments);
-  Iso230Options iso230Options;
-  CLI::App* iso230 = addIso230Verb(app, iso230Options);
+  Iso230Arguments iso230Arguments;
+  CLI::App* iso230 = addIso230Verb(app, iso230Arguments);
   ExportOptions exportOptions;
   CLI::App* exportVerb = addExportVerb(app, exportOptions);
   ReportOptions reportOptions;
@@ -82,7 +82,10 @@ int main(int argc, char** argv) {
       resolveCalibrateArguments(calibrateArguments);
       return runCalibrate(calibrateArguments.options, std::cout);
     }
-    if (iso230->parsed()) return runIso230(iso230Options, std::cout, std::cerr);
+    if (iso230->parsed()) {
+      resolveIso230Arguments(iso230Arguments);
+      return runIso230(iso230Arguments.options, std::cout, std::cerr);
+    }
     if (exportVerb->parsed()) return runExport(exportOptions, std::cout);
     if (report->parsed()) return runReport(reportOptions, std::cout, std::cerr);
     if (plan->parsed()) {

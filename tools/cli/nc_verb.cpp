@@ -4,7 +4,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -15,6 +14,7 @@
 
 #include "cli_support.hpp"
 #include "volcomp/config/model_file.hpp"
+#include "volcomp/format/numbers.hpp"
 #include "volcomp/nc/canon_reader.hpp"
 #include "volcomp/nc/compensator.hpp"
 #include "volcomp/nc/nc_error.hpp"
@@ -89,12 +89,6 @@ OrderedJson reportJson(const nc::NcReport& r, const NcOptions& options) {
   return j;
 }
 
-std::string um(double mm) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3f", mm * 1000.0);
-  return buffer;
-}
-
 std::string firstLines(const std::vector<nc::ListedLine>& lines) {
   std::string text;
   for (std::size_t i = 0; i < lines.size() && i < 5; ++i) {
@@ -107,15 +101,15 @@ std::string firstLines(const std::vector<nc::ListedLine>& lines) {
 
 void summary(std::ostream& err, const nc::NcReport& r, const NcOptions& o) {
   err << "volcomp nc: " << o.inputPath << " -> " << o.outPath << " (" << r.format << ", tolerance "
-      << um(r.toleranceMm) << " um)\n"
+      << fixedMicrometres(r.toleranceMm) << " um)\n"
       << "  lines: " << r.linesIn << " in, " << r.linesOut << " out; moves: " << r.rapidMoves
       << " rapid, " << r.feedMoves << " feed, " << r.arcMoves << " arc; " << r.piecesAdded
       << " pieces added, " << r.reversalMoves << " reversal moves\n"
-      << "  offsets at " << r.vertices << " vertices: peak " << um(r.peakOffsetMm) << " um, RMS "
-      << um(r.rmsOffsetMm()) << " um\n"
-      << "  deviation from the ideal compensated path: max " << um(r.maxDeviationMm) << " um at "
-      << r.checkPoints << " check points (at most " << formatDouble(r.checkStepMm) << " mm apart), "
-      << um(r.maxBoundMm) << " um with the curvature allowance\n";
+      << "  offsets at " << r.vertices << " vertices: peak " << fixedMicrometres(r.peakOffsetMm)
+      << " um, RMS " << fixedMicrometres(r.rmsOffsetMm()) << " um\n"
+      << "  deviation from the ideal compensated path: max " << fixedMicrometres(r.maxDeviationMm)
+      << " um at " << r.checkPoints << " check points (at most " << formatDouble(r.checkStepMm)
+      << " mm apart), " << fixedMicrometres(r.maxBoundMm) << " um with the curvature allowance\n";
   if (r.unresolvedPieces > 0) {
     err << "  warning: " << r.unresolvedPieces
         << " pieces could not be split within the tolerance (see max_bound)\n";
@@ -144,12 +138,12 @@ void summary(std::ostream& err, const nc::NcReport& r, const NcOptions& o) {
     err << "  error: the offset did not converge at " << r.notConverged << " points (lines "
         << firstLines(r.notConvergedLines) << "): the program is not reliable there\n";
   }
-  char time[160];
-  std::snprintf(time, sizeof time,
-                "  time: %.3f s (read %.3f, offsets %.3f, split %.3f, write %.3f), %.0f lines/s\n",
-                r.timeS, r.readS, r.offsetsS, r.splitS, r.writeS,
-                r.timeS > 0.0 ? static_cast<double>(r.linesIn) / r.timeS : 0.0);
-  err << time;
+  using format::fixed;
+  err << "  time: " + fixed(r.timeS, 3) + " s (read " + fixed(r.readS, 3) + ", offsets " +
+             fixed(r.offsetsS, 3) + ", split " + fixed(r.splitS, 3) + ", write " +
+             fixed(r.writeS, 3) + "), " +
+             fixed(r.timeS > 0.0 ? static_cast<double>(r.linesIn) / r.timeS : 0.0, 0) +
+             " lines/s\n";
 }
 
 bool detectCanonical(const std::string& path) {

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
 #include <filesystem>
 #include <optional>
 
 #include "volcomp/config/json_reader.hpp"
 #include "volcomp/config/transport_limits.hpp"
+#include "volcomp/format/numbers.hpp"
 
 namespace volcomp::config {
 
@@ -15,16 +15,10 @@ const double kDefaultStopTimeoutS = VOLCOMPD_DEFAULT_STOP_TIMEOUT_S;
 
 namespace {
 
-std::string shortNumber(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%g", v);
-  return buffer;
-}
-
 // A strictly positive number no larger than `max` (JsonReader::number takes closed ranges).
 double positiveNumber(const JsonReader& value, double max) {
   const double v = value.number();
-  if (!(v > 0.0) || v > max) value.failExpected("a number in (0, " + shortNumber(max) + "]");
+  if (!(v > 0.0) || v > max) value.failExpected("a number in (0, " + format::general(max) + "]");
   return v;
 }
 
@@ -57,7 +51,7 @@ void checkBounds(const JsonReader& root, const DaemonConfig& c) {
   if (largestOffsetMm > kMaxOffsetWithoutOverrideMm &&
       !limiter.booleanOr("allow_max_offset_above_2mm", false)) {
     limiter.at("max_offset_mm")
-        .failExpected("at most " + shortNumber(kMaxOffsetWithoutOverrideMm) +
+        .failExpected("at most " + format::general(kMaxOffsetWithoutOverrideMm) +
                       " mm (geometric compensation rarely needs more than tens of um; set "
                       "\"allow_max_offset_above_2mm\": true in \"limiter\" if this machine "
                       "really does)");
@@ -69,13 +63,13 @@ void checkBounds(const JsonReader& root, const DaemonConfig& c) {
     for (const loop::AxisLimits& a : c.limiter.axes) {
       slowestRateMmS = std::min(slowestRateMmS, a.maxRateMmS);
     }
-    limiter.fail("the ramp-out takes up to " + shortNumber(rampS) +
+    limiter.fail("the ramp-out takes up to " + format::general(rampS) +
                  " s (max_offset_mm / max_rate_mm_s), and a stop may take 2 x that + 1 s = " +
-                 shortNumber(stopS) + " s, longer than the service's stop timeout of " +
-                 shortNumber(c.stopTimeoutS) +
+                 format::general(stopS) + " s, longer than the service's stop timeout of " +
+                 format::general(c.stopTimeoutS) +
                  " s (stop_timeout_s, TimeoutStopSec of the unit): systemd would kill the daemon "
                  "with offsets applied. Raise max_rate_mm_s to at least " +
-                 shortNumber(2.0 * largestOffsetMm / (c.stopTimeoutS - 1.0)) +
+                 format::general(2.0 * largestOffsetMm / (c.stopTimeoutS - 1.0)) +
                  " mm/s, lower max_offset_mm, or raise TimeoutStopSec in a drop-in and "
                  "stop_timeout_s here");
   }
@@ -135,7 +129,7 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
     c.saturationFaultMs = v->number(0.0, 3.6e6);
     if (c.saturationFaultMs > 0.0 && c.saturationFaultMs < c.saturationWarningMs) {
       v->failExpected("0 (no fault) or a time not shorter than limiter.saturation_warning_ms (" +
-                      shortNumber(c.saturationWarningMs) + " ms)");
+                      format::general(c.saturationWarningMs) + " ms)");
     }
   }
   c.faultLatch = root.booleanOr("fault_latch", true);
@@ -143,7 +137,7 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
   if (auto v = root.find("stale_timeout_ms")) {
     c.staleTimeoutMs = v->number(0.0, 60000.0);
     if (!(c.staleTimeoutMs > c.cyclePeriodMs)) {
-      v->failExpected("a timeout longer than cycle_period_ms (" + shortNumber(c.cyclePeriodMs) +
+      v->failExpected("a timeout longer than cycle_period_ms (" + format::general(c.cyclePeriodMs) +
                       " ms)");
     }
   } else if (!(c.staleTimeoutMs > c.cyclePeriodMs)) {
@@ -168,7 +162,7 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
     c.plcHeartbeatTimeoutMs = v->number(0.0, 600000.0);
     if (!(c.plcHeartbeatTimeoutMs > 2.0 * c.cyclePeriodMs)) {
       v->failExpected("a timeout longer than two cycle periods (" +
-                      shortNumber(2.0 * c.cyclePeriodMs) + " ms)");
+                      format::general(2.0 * c.cyclePeriodMs) + " ms)");
     }
   }
   c.readToWriteMaxMs = c.plcHeartbeatTimeoutMs / 2.0;
@@ -176,7 +170,7 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
     c.readToWriteMaxMs = positiveNumber(*v, 600000.0);
     if (c.readToWriteMaxMs + c.cyclePeriodMs >= c.plcHeartbeatTimeoutMs) {
       v->failExpected("less than plc_heartbeat_timeout_ms - cycle_period_ms (" +
-                      shortNumber(c.plcHeartbeatTimeoutMs - c.cyclePeriodMs) +
+                      format::general(c.plcHeartbeatTimeoutMs - c.cyclePeriodMs) +
                       " ms): the PLC could remove the offsets between a read and its write");
     }
   }

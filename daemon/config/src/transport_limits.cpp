@@ -3,24 +3,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <type_traits>
 #include <variant>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/format/numbers.hpp"
 #include "volcomp/modbus/register_plan.hpp"
 
 namespace volcomp::config {
 namespace {
 
 constexpr const char* kAxes[] = {"X", "Y", "Z"};
-
-std::string number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%g", v);
-  return buffer;
-}
 
 /// Largest raw count of an integer register type, and whether it holds negative values.
 struct RawRange {
@@ -56,16 +50,18 @@ void checkRegister(const DaemonConfig& c, const modbus::ValueRegister& r, std::s
   if (!range.isSigned) {
     throw ConfigError(c.file, keyPath,
                       std::string("a ") + range.name + " register holds no negative offset; " +
-                          "offsets are +-" + number(maxOffset) + " mm (limiter.max_offset_mm, " +
-                          kAxes[axis] + "): use int16, int32 or a float type");
+                          "offsets are +-" + format::general(maxOffset) +
+                          " mm (limiter.max_offset_mm, " + kAxes[axis] +
+                          "): use int16, int32 or a float type");
   }
   const double holdsMm = range.max / r.format.countsPerMm;
   if (maxOffset > holdsMm) {
     throw ConfigError(c.file, keyPath,
-                      std::string("an ") + range.name + " at " + number(r.format.countsPerMm) +
-                          " counts/mm holds +-" + number(holdsMm) +
-                          " mm, less than limiter.max_offset_mm " + number(maxOffset) + " mm (" +
-                          kAxes[axis] + "): use a wider type or fewer counts_per_mm");
+                      std::string("an ") + range.name + " at " +
+                          format::general(r.format.countsPerMm) + " counts/mm holds +-" +
+                          format::general(holdsMm) + " mm, less than limiter.max_offset_mm " +
+                          format::general(maxOffset) + " mm (" + kAxes[axis] +
+                          "): use a wider type or fewer counts_per_mm");
   }
 }
 
@@ -86,9 +82,10 @@ void checkSignal(const DaemonConfig& c, const can::SignalSpec& s, std::size_t ax
   }
   if (lo > -maxOffset || hi < maxOffset) {
     throw ConfigError(c.file, keyPath,
-                      "signal " + s.name + " holds [" + number(lo) + ", " + number(hi) +
-                          "] mm, not +-" + number(maxOffset) + " mm (limiter.max_offset_mm, " +
-                          kAxes[axis] + "): widen it or change its scale");
+                      "signal " + s.name + " holds [" + format::general(lo) + ", " +
+                          format::general(hi) + "] mm, not +-" + format::general(maxOffset) +
+                          " mm (limiter.max_offset_mm, " + kAxes[axis] +
+                          "): widen it or change its scale");
   }
 }
 
@@ -113,13 +110,13 @@ void checkModbus(const DaemonConfig& c, const modbus::ModbusSettings& m) {
   if (blockedMs > c.serviceWatchdogMs / 2.0) {
     throw ConfigError(
         c.file, "transport.response_timeout_ms",
-        "a cycle may wait " + std::to_string(transactions) + " x " + number(m.responseTimeoutMs) +
-            " ms = " + number(blockedMs) +
+        "a cycle may wait " + std::to_string(transactions) + " x " +
+            format::general(m.responseTimeoutMs) + " ms = " + format::general(blockedMs) +
             " ms for its transactions, more than half the service watchdog (" +
-            number(c.serviceWatchdogMs) +
+            format::general(c.serviceWatchdogMs) +
             " ms, service_watchdog_ms = WatchdogSec of the unit): a slow controller would get "
             "the daemon restarted. Use at most " +
-            number(std::floor(c.serviceWatchdogMs / 2.0 / transactions)) +
+            format::general(std::floor(c.serviceWatchdogMs / 2.0 / transactions)) +
             " ms, or raise WatchdogSec in a drop-in and service_watchdog_ms here");
   }
 }
@@ -145,9 +142,9 @@ void checkCan(const DaemonConfig& c, const can::CanLayout& layout) {
       std::chrono::duration<double, std::milli>(layout.responseTimeout).count();
   if (layout.trigger == can::Trigger::Sync && responseMs > c.serviceWatchdogMs / 2.0) {
     throw ConfigError(c.file, "transport.response_timeout_ms",
-                      "a cycle may wait " + number(responseMs) +
+                      "a cycle may wait " + format::general(responseMs) +
                           " ms for the input frames, more than half the service watchdog (" +
-                          number(c.serviceWatchdogMs) +
+                          format::general(c.serviceWatchdogMs) +
                           " ms, service_watchdog_ms = WatchdogSec of the unit)");
   }
 }

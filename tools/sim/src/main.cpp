@@ -9,7 +9,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -22,6 +21,7 @@
 
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/display_units.hpp"
+#include "volcomp/format/text.hpp"
 #include "volcomp/sim/can_server.hpp"
 #include "volcomp/sim/commands.hpp"
 #include "volcomp/sim/machine.hpp"
@@ -122,11 +122,13 @@ void printSummary(const nlohmann::json& r) {
             << r.value("samples", 0) << " samples of the tool-tip error (um)\n"
             << "              RMS before   RMS after  max before   max after\n";
   const auto row = [&](const std::string& name, const nlohmann::json& v) {
-    char line[160];
-    std::snprintf(line, sizeof line, "  %-6s %14s %11s %11s %11s\n", name.c_str(),
-                  um(v["rms_uncompensated_um"]).c_str(), um(v["rms_compensated_um"]).c_str(),
-                  um(v["max_uncompensated_um"]).c_str(), um(v["max_compensated_um"]).c_str());
-    std::cerr << line;
+    using volcomp::format::padLeft;
+    // One write per line: stderr is unbuffered.
+    std::cerr << "  " + volcomp::format::padRight(name, 6) + ' ' +
+                     padLeft(um(v["rms_uncompensated_um"]), 14) + ' ' +
+                     padLeft(um(v["rms_compensated_um"]), 11) + ' ' +
+                     padLeft(um(v["max_uncompensated_um"]), 11) + ' ' +
+                     padLeft(um(v["max_compensated_um"]), 11) + '\n';
   };
   if (r.contains("axes")) {
     for (const char* axis : {"X", "Y", "Z"}) {

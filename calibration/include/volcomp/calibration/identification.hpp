@@ -61,13 +61,34 @@ struct PredictionPoint {
   std::vector<double> joints;
 };
 
+/// Which of a component's curves a Curve is.
+enum class CurveDirection {
+  Both,      ///< the one curve of a component that is not a bidirectional table
+  Positive,  ///< a bidirectional table's curve for motion in + ("values")
+  Negative,  ///< a bidirectional table's curve for motion in - ("values_negative")
+  Reversal,  ///< the difference negative - positive of a bidirectional table
+};
+
+/// As reports write it: "" (Both), "+", "-", "reversal".
+constexpr const char* curveDirectionName(CurveDirection direction) noexcept {
+  switch (direction) {
+    case CurveDirection::Positive:
+      return "+";
+    case CurveDirection::Negative:
+      return "-";
+    case CurveDirection::Reversal:
+      return "reversal";
+    case CurveDirection::Both:
+      break;
+  }
+  return "";
+}
+
 /// An identified error function of one component sampled at a few positions: value = g . p and
 /// its uncertainty through the fit's covariance (predictionUncertainty with g).
 struct Curve {
   std::string component;  ///< e.g. "EXX"
-  /// "+" or "-" for the two curves of a bidirectional table, "" otherwise; "reversal" for the
-  /// difference negative - positive of a bidirectional table.
-  std::string direction;
+  CurveDirection direction = CurveDirection::Both;
   std::string unit;        ///< display unit (the template's error units)
   double toDisplay = 1.0;  ///< internal value * toDisplay = displayed value
   bool angle = false;      ///< an angular component (rad internally)

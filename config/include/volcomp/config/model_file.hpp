@@ -24,13 +24,30 @@ struct ParseOptions {
   bool allowIdentify = false;
 };
 
-/// Units a file states for error values ("error_units"); factors multiply file values to get mm
-/// and rad.
+/// The length units a file may state for error values: "mm", "um", "nm".
+enum class LengthUnit { Millimetre, Micrometre, Nanometre };
+/// The angle units a file may state for error values: "rad", "mrad", "urad", "arcsec", "deg".
+enum class AngleUnit { Radian, Milliradian, Microradian, Arcsecond, Degree };
+
+/// The unit's name as files and messages write it: "mm", "um", "nm"; "rad", "mrad", "urad",
+/// "arcsec", "deg".
+const char* unitName(LengthUnit unit) noexcept;
+const char* unitName(AngleUnit unit) noexcept;
+/// The factor that takes a value in `unit` to mm (1e-3 for um) or rad (pi / 180 for deg).
+double toMm(LengthUnit unit) noexcept;
+double toRad(AngleUnit unit) noexcept;
+/// The unit of a name ("um" -> Micrometre); nullopt for a name that is not one of the units.
+std::optional<LengthUnit> lengthUnitFromName(std::string_view name) noexcept;
+std::optional<AngleUnit> angleUnitFromName(std::string_view name) noexcept;
+
+/// Units a file states for error values ("error_units"); the factors multiply file values to get
+/// mm and rad.
 struct ErrorUnits {
-  std::string length = "mm";
-  std::string angle = "rad";
-  double lengthToMm = 1.0;
-  double angleToRad = 1.0;
+  LengthUnit length = LengthUnit::Millimetre;
+  AngleUnit angle = AngleUnit::Radian;
+  double lengthToMm() const noexcept { return toMm(length); }
+  double angleToRad() const noexcept { return toRad(angle); }
+  bool operator==(const ErrorUnits&) const = default;
 };
 
 /// The largest error values a file may hold before `volcomp check` and volcompd call it
@@ -80,7 +97,8 @@ nlohmann::json writeModel(const model::DhChainSpec& spec);
 const char* interpolationName(model::Interpolation interpolation) noexcept;
 
 /// Factor from a length unit name (mm|um|nm) to mm; angle unit name (rad|mrad|urad|arcsec|deg) to
-/// rad. Throw ConfigError with the given file/path on an unknown name.
+/// rad, for unit names read from other files (CSV column units). Throw ConfigError with the given
+/// file/path on an unknown name.
 double lengthUnitToMm(const std::string& unit, const std::string& file, const std::string& path);
 double angleUnitToRad(const std::string& unit, const std::string& file, const std::string& path);
 /// The same factors without throwing: nullopt for a name that is not one of those units.

@@ -1,12 +1,12 @@
 #include <algorithm>
 #include <bitset>
 #include <cmath>
-#include <cstdio>
 
 #include "can_section.hpp"
 #include "volcomp/can/dbc.hpp"
 #include "volcomp/config/can_config.hpp"
 #include "volcomp/config/dbc_file.hpp"
+#include "volcomp/format/numbers.hpp"
 
 namespace volcomp::config {
 namespace {
@@ -39,12 +39,6 @@ std::bitset<8 * can::kFdMaxLength> occupiedBits(const SignalSpec& spec) {
     }
   }
   return bits;
-}
-
-std::string idText(std::uint32_t id, bool extended) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, extended ? "0x%08X" : "0x%03X", id);
-  return buf;
 }
 
 class Resolver {
@@ -134,7 +128,7 @@ class Resolver {
     auto& other = input ? layout_.outputFrames : layout_.inputFrames;
     for (const FrameLayout& f : other)
       if (f.id == spec.frameId && f.extended == spec.extended)
-        fail(s.keyPath, prefix + "frame " + idText(spec.frameId, spec.extended) +
+        fail(s.keyPath, prefix + "frame " + format::hexId(spec.frameId, spec.extended) +
                             " cannot be both an input and an output");
     auto it = std::find_if(frames.begin(), frames.end(), [&](const FrameLayout& f) {
       return f.id == spec.frameId && f.extended == spec.extended;
@@ -149,9 +143,9 @@ class Resolver {
     for (std::size_t j = 0; j < it->signals.size(); ++j) {
       if ((occupiedBits(it->signals[j].spec) & bits).any())
         fail(s.keyPath, prefix + "overlaps " + keyPaths_[input][index][j] + " in frame " +
-                            idText(spec.frameId, spec.extended));
+                            format::hexId(spec.frameId, spec.extended));
       if (field == Field::Sequence && it->signals[j].field == Field::Sequence)
-        fail(s.keyPath, prefix + "frame " + idText(spec.frameId, spec.extended) +
+        fail(s.keyPath, prefix + "frame " + format::hexId(spec.frameId, spec.extended) +
                             " already carries a sequence counter");
     }
     it->length = std::max({it->length, bytesNeeded(spec), dbcLength});
@@ -171,7 +165,7 @@ class Resolver {
           fail(c_.keyPath + ".inputs.sequence",
                "with the broadcast trigger and " + std::to_string(layout_.inputFrames.size()) +
                    " input frames, every input frame needs a sequence counter; frame " +
-                   idText(f.id, f.extended) + " has none");
+                   format::hexId(f.id, f.extended) + " has none");
       }
     }
     if (c_.sync) {
@@ -184,7 +178,8 @@ class Resolver {
       for (const auto* frames : {&layout_.inputFrames, &layout_.outputFrames})
         for (const FrameLayout& f : *frames)
           if (f.id == sync.id && f.extended == sync.extended)
-            fail(c_.keyPath + ".sync.id", "the SYNC frame " + idText(sync.id, sync.extended) +
+            fail(c_.keyPath + ".sync.id", "the SYNC frame " +
+                                              format::hexId(sync.id, sync.extended) +
                                               " is also an input or output frame");
       layout_.syncFrame = sync;
     }

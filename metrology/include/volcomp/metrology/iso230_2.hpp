@@ -26,6 +26,7 @@
 /// at one phase), fewer than 5 targets per metre, a measurement travel over 2000 mm (the standard
 /// tests long axes differently), different numbers of runs in the two directions.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,8 +67,8 @@ struct AxisFigures {
 };
 
 struct Iso230Result {
-  std::string source;  ///< file the runs came from
-  std::string axis;    ///< "X", "Y", "Z" or empty
+  std::string source;               ///< file the runs came from
+  std::optional<model::Axis> axis;  ///< when the runs name it
   /// Run numbers as in the file, ascending, per direction (n↑ = runsPositive.size()).
   std::vector<int> runsPositive, runsNegative;
   /// Ascending target positions.

@@ -16,6 +16,7 @@
 /// are skipped; other columns are ignored and listed in `ignoredColumns`.
 
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,19 +39,20 @@ struct PositioningSample {
 struct PositioningRuns {
   /// Source file name (messages only).
   std::string file;
-  /// "X", "Y", "Z" when known (axis column or --axis), else empty.
-  std::string axis;
+  /// The axis when known (from the axis column or the axis filter).
+  std::optional<model::Axis> axis;
   std::vector<PositioningSample> samples;
   /// Header columns that were not understood and not used.
   std::vector<std::string> ignoredColumns;
 };
 
-/// Reads the CSV described above from `input`. When `axisFilter` is not empty only rows of that
-/// axis are kept (a file without an axis column is then taken to be of that axis). Throws
+/// Reads the CSV described above from `input`. With an `axisFilter` only rows of that axis are
+/// kept (a file without an axis column is then taken to be of that axis). Throws
 /// config::ConfigError naming `file`, the line and column, and what was expected.
 PositioningRuns parsePositioningCsv(std::istream& input, const std::string& file,
-                                    const std::string& axisFilter = {});
+                                    std::optional<model::Axis> axisFilter = std::nullopt);
 /// Same from a file.
-PositioningRuns readPositioningCsv(const std::string& path, const std::string& axisFilter = {});
+PositioningRuns readPositioningCsv(const std::string& path,
+                                   std::optional<model::Axis> axisFilter = std::nullopt);
 
 }  // namespace volcomp::metrology

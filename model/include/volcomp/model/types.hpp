@@ -4,13 +4,18 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace volcomp::model {
 
 /// A linear machine axis. The integer value is the index into q = (x, y, z).
 enum class Axis : std::uint8_t { X = 0, Y = 1, Z = 2 };
+
+/// The axis named "X", "Y" or "Z" (upper case, nothing around it); nullopt for any other text.
+std::optional<Axis> axisFromName(std::string_view name) noexcept;
 
 /// Direction in which an axis last moved; selects the curve of a bidirectional table
 /// (`values` for Positive, `values_negative` for Negative, their mean for Unknown).

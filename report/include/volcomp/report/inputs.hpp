@@ -15,6 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "volcomp/model/types.hpp"
+
 namespace volcomp::report {
 
 /// Things the reader skipped or could not use, in words (shown in the report and on stderr).
@@ -91,8 +93,8 @@ struct IsoFigure {
 
 struct IsoAxis {
   std::string file;
-  std::string axis;    ///< "X", "Y", "Z", or "" when the evaluation did not name it
-  std::string source;  ///< the runs' CSV as the evaluation names it
+  std::optional<model::Axis> axis;  ///< when the evaluation names it
+  std::string source;               ///< the runs' CSV as the evaluation names it
   std::string standard;
   int runsUp = 0, runsDown = 0;    ///< runs per direction
   std::vector<IsoTarget> targets;  ///< ascending by position

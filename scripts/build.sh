@@ -8,6 +8,9 @@
 # Objects go through ccache with paths relative to the checkout, so that another clone of the
 # same sources (in another folder) finds them in the cache. Debug information is line tables
 # only (-g1): enough for backtraces and sanitizer reports, a fifth less compile time than -g.
+# The product's libraries and programs are unity builds (VOLCOMP_UNITY_BUILD: half the compile
+# time of a clean build; what the demo builds is what the tests test and the packages ship).
+# Pass -DVOLCOMP_UNITY_BUILD=OFF when editing one source at a time.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${BUILD_DIR:-$here/build}"
@@ -26,6 +29,7 @@ if [ "${1:-}" = "--demo" ]; then
         -DVOLCOMP_LINUXCNC=OFF)
 fi
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DVOLCOMP_WERROR="$werror" "${what[@]}" \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DVOLCOMP_WERROR="$werror" \
+  -DVOLCOMP_UNITY_BUILD=ON "${what[@]}" \
   "$@" >/dev/null
 cmake --build "$build" -j "$(nproc)" "${targets[@]}"

@@ -447,7 +447,7 @@ void CompensationLoop::writeCommand(time_point now, std::uint16_t status,
 
 // The phases of step() below are always_inline: each is called from step() alone, and as
 // out-of-line member functions (GCC does not inline an externally visible function merely because
-// it has one caller) they cost a sixth more instructions per cycle.
+// it has one caller) they cost about 15 % more instructions per cycle.
 [[gnu::always_inline]] inline CycleReport CompensationLoop::finish(CycleReport& report) noexcept {
   state_ = LoopState::Finished;
   report.state = state_;

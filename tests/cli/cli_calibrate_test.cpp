@@ -107,11 +107,7 @@ class RunCalibrate : public ::testing::Test {
 };
 
 TEST_F(RunCalibrate, WritesALoadableModelAReportAndASummary) {
-  CalibrateOptions options;
-  options.templatePath = write("template.json", templateText(false));
-  options.measurementsPath = write("points.csv", measurementCsv());
-  options.outPath = path("model.json");
-  options.reportPath = path("report.json");
+  const CalibrateOptions options = defaults();
   const CliRun out = runCalibrate(options);
   EXPECT_EQ(out.status, 0) << out.out << out.err;
 
@@ -148,15 +144,10 @@ TEST_F(RunCalibrate, WritesALoadableModelAReportAndASummary) {
 }
 
 TEST_F(RunCalibrate, NamesWhatTheDataCannotSeparate) {
-  CalibrateOptions options;
-  options.templatePath = write("template.json", templateText(true));
-  options.measurementsPath = write("points.csv", measurementCsv());
-  options.outPath = path("model.json");
-  options.reportPath = path("report.json");
+  const CalibrateOptions options = defaults(true);
   const CliRun out = runCalibrate(options);
   EXPECT_EQ(out.status, 0) << out.out << out.err;
-  std::ifstream reportFile(options.reportPath);
-  const json report = json::parse(reportFile);
+  const json report = readJson(options.reportPath);
   EXPECT_EQ(report["rank"], 4);
   ASSERT_EQ(report["unidentifiable"].size(), 1u);
   const json& names = report["unidentifiable"][0]["parameters"];

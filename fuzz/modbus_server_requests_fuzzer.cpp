@@ -1,12 +1,12 @@
 // Requests a Modbus master sends to the daemon in the server role, as the server port decides on
-// them before libmodbus answers (drivers/modbus server_bank): the function and register ranges
-// read from the PDU, the refusal of anything outside the bank or writing outside the input
-// block, and the tracking of position writes that triggers a cycle. The bank is the example
-// server configuration's. The input is a sequence of PDUs, each a length byte and that many
-// bytes (function code first, as after libmodbus' header).
-// Invariants: a request let through reads only inside the bank and writes only inside the input
-// block; a refusal is ILLEGAL DATA ADDRESS; a position set completes exactly when every position
-// register has been written since the last complete set.
+// them before libmodbus answers (drivers/modbus server_bank): the refusal of any function,
+// length, quantity or byte count the bank does not serve and of anything outside the bank or
+// writing outside the input block, the register ranges of what is let through, and the tracking
+// of position writes that triggers a cycle. The bank is the example server configuration's. The
+// input is a sequence of PDUs, each a length byte and that many bytes (function code first).
+// Invariants: a request let through has ranges, reads only inside the bank and writes only inside
+// the input block; a refusal is ILLEGAL FUNCTION, DATA ADDRESS or DATA VALUE; a position set
+// completes exactly when every position register has been written since the last complete set.
 
 #include <algorithm>
 #include <cstddef>
@@ -61,14 +61,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t length = std::min<std::size_t>(data[at], size - at - 1);
     const std::span<const std::uint8_t> pdu(data + at + 1, length);
     at += 1 + length;
-    const auto request = modbus::parseServerRequest(pdu);
-    if (!request) continue;
-    fuzz::require(pdu.empty() || request->function == pdu[0], "the function is not the PDU's");
-    const std::uint8_t refusal = modbus::refuseRequest(layout, *request);
+    const std::uint8_t refusal = modbus::refuseRequest(layout, pdu);
     if (refusal != 0) {
-      fuzz::require(refusal == modbus::kIllegalDataAddress, "a refusal other than address");
+      fuzz::require(refusal == modbus::kIllegalFunction || refusal == modbus::kIllegalDataAddress ||
+                        refusal == modbus::kIllegalDataValue,
+                    "a refusal other than function, address or value");
       continue;
     }
+    // What is let through is what libmodbus serves without an exception of its own.
+    const auto request = modbus::parseServerRequest(pdu);
+    fuzz::require(request.has_value(), "a request let through that has no ranges");
+    fuzz::require(request->function == pdu[0], "the function is not the PDU's");
+    fuzz::require(request->read.count + request->write.count > 0, "a request without a range");
     fuzz::require(inside(layout.bank, request->read), "a read outside the bank let through");
     fuzz::require(inside(layout.masterWrite, request->write),
                   "a write outside the input block let through");

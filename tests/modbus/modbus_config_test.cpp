@@ -1,5 +1,7 @@
 #include "volcomp/config/modbus_config.hpp"
 
+#include <array>
+#include <cmath>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -92,6 +94,29 @@ TEST(ModbusConfig, AppliedOffsetMayReadBackTheOutputsThemselves) {
   json s = base();
   s["registers"]["applied_offset"] = s["registers"]["offset"];
   EXPECT_NO_THROW(parseModbusSettings(s, "plant.json", "transport"));
+}
+
+// A NaN or infinity in a float input is the controller's data, not a failed read: it reaches the
+// loop as NaN (which faults it as invalid input, latched), and the other inputs are decoded.
+TEST(ModbusConfig, NonFiniteFloatInputsReachTheLoopAsNan) {
+  json s = base();
+  s["registers"]["position"]["Y"] = {{"address", 2}, {"type", "float32"}, {"counts_per_mm", 1}};
+  const modbus::ModbusSettings c = parseModbusSettings(s, "plant.json", "transport");
+  std::array<std::uint16_t, 32> holding{};
+  std::array<std::uint16_t, 1> input{};
+  holding[1] = 12345;   // X low word: 1.2345 mm
+  holding[2] = 0x7FC0;  // Y: a quiet NaN
+  holding[6] = 0b11;    // enable, homed
+  loop::AxisSample out;
+  ASSERT_FALSE(modbus::decodeInputs(c.registers, modbus::ConstTableView{holding, 0},
+                                    modbus::ConstTableView{input, 0}, out));
+  EXPECT_NEAR(out.positionMm[0], 1.2345, 1e-12);
+  EXPECT_TRUE(std::isnan(out.positionMm[1]));
+  EXPECT_TRUE(out.enable && out.homed);
+  holding[2] = 0x7F80;  // Y: +infinity
+  ASSERT_FALSE(modbus::decodeInputs(c.registers, modbus::ConstTableView{holding, 0},
+                                    modbus::ConstTableView{input, 0}, out));
+  EXPECT_TRUE(std::isnan(out.positionMm[1]));
 }
 
 // The fault-acknowledge input: a bit, possibly in the enable/homed register (on its own bit),

@@ -1,5 +1,6 @@
-// The server role's pure parts: the bank layout, the address checks and the position-set
-// tracker; and the server-role keys of the transport section (typed errors with key paths).
+// The server role's pure parts: the bank layout, the refusals of requests (function, length,
+// quantity, address) and the position-set tracker; and the server-role keys of the transport
+// section (typed errors with key paths).
 #include "volcomp/modbus/server_bank.hpp"
 
 #include <arpa/inet.h>
@@ -117,26 +118,99 @@ TEST(ServerBank, ParsesRequestRanges) {
   EXPECT_EQ(coils->read.count + coils->write.count, 0);
 }
 
+/// A request PDU exactly as a master sends it: FC03 (address, quantity), FC06 (address, value),
+/// FC16 (address, quantity, 2 x quantity data bytes), FC22 (address, masks), FC23 (read address
+/// and quantity, write address and quantity, data).
+std::vector<std::uint8_t> request(std::uint8_t fc, std::uint16_t a, std::uint16_t b,
+                                  std::uint16_t c = 0, std::uint16_t d = 0) {
+  const auto words = [](std::initializer_list<std::uint16_t> w) {
+    std::vector<std::uint8_t> out;
+    for (std::uint16_t v : w) {
+      out.push_back(static_cast<std::uint8_t>(v >> 8));
+      out.push_back(static_cast<std::uint8_t>(v & 0xFF));
+    }
+    return out;
+  };
+  std::vector<std::uint8_t> r{fc};
+  const auto append = [&](const std::vector<std::uint8_t>& bytes) {
+    r.insert(r.end(), bytes.begin(), bytes.end());
+  };
+  switch (fc) {
+    case 0x10:
+      append(words({a, b}));
+      r.push_back(static_cast<std::uint8_t>(2 * b));
+      r.resize(r.size() + 2U * b, 0);
+      break;
+    case 0x16:
+      append(words({a, b, c}));
+      break;
+    case 0x17:
+      append(words({a, b, c, d}));
+      r.push_back(static_cast<std::uint8_t>(2 * d));
+      r.resize(r.size() + 2U * d, 0);
+      break;
+    default:
+      append(words({a, b}));
+  }
+  return r;
+}
+
 TEST(ServerBank, RefusesWritesOutsideTheInputBlockAndReadsOutsideTheBank) {
   const ServerLayout l = layoutServerBank(parse(serverJson()).registers);
-  const auto check = [&](std::array<std::uint8_t, 9> p) {
-    return refuseRequest(l, *parseServerRequest(p));
-  };
-  EXPECT_EQ(check(pdu(0x10, 0, 14)), 0);                    // the whole input block
-  EXPECT_EQ(check(pdu(0x10, 0, 6)), 0);                     // the positions
-  EXPECT_EQ(check(pdu(0x06, 13, 1)), 0);                    // the last input register
-  EXPECT_EQ(check(pdu(0x03, 0, 22)), 0);                    // the whole bank
-  EXPECT_EQ(check(pdu(0x03, 14, 8)), 0);                    // the outputs
-  EXPECT_EQ(check(pdu(0x06, 14, 1)), kIllegalDataAddress);  // an offset output
-  EXPECT_EQ(check(pdu(0x10, 12, 4)), kIllegalDataAddress);  // runs into the outputs
-  EXPECT_EQ(check(pdu(0x10, 21, 1)), kIllegalDataAddress);  // heartbeat
-  EXPECT_EQ(check(pdu(0x06, 30, 1)), kIllegalDataAddress);  // outside the bank
-  EXPECT_EQ(check(pdu(0x03, 20, 3)), kIllegalDataAddress);  // runs past the bank
-  EXPECT_EQ(check(pdu(0x03, 100, 1)), kIllegalDataAddress);
-  EXPECT_EQ(check(pdu(0x16, 20, 1)), kIllegalDataAddress);  // mask write onto status
-  EXPECT_EQ(check(pdu(0x17, 14, 8, 0, 14)), 0);             // FC23: write inputs, read outputs
-  EXPECT_EQ(check(pdu(0x17, 14, 8, 14, 2)), kIllegalDataAddress);
-  EXPECT_EQ(check(pdu(0x17, 14, 9, 0, 2)), kIllegalDataAddress);
+  const auto check = [&](const std::vector<std::uint8_t>& p) { return refuseRequest(l, p); };
+  EXPECT_EQ(check(request(0x10, 0, 14)), 0);                    // the whole input block
+  EXPECT_EQ(check(request(0x10, 0, 6)), 0);                     // the positions
+  EXPECT_EQ(check(request(0x06, 13, 1)), 0);                    // the last input register
+  EXPECT_EQ(check(request(0x03, 0, 22)), 0);                    // the whole bank
+  EXPECT_EQ(check(request(0x03, 14, 8)), 0);                    // the outputs
+  EXPECT_EQ(check(request(0x16, 6, 0xFFFE, 1)), 0);             // mask write of the flags
+  EXPECT_EQ(check(request(0x06, 14, 1)), kIllegalDataAddress);  // an offset output
+  EXPECT_EQ(check(request(0x10, 12, 4)), kIllegalDataAddress);  // runs into the outputs
+  EXPECT_EQ(check(request(0x10, 21, 1)), kIllegalDataAddress);  // heartbeat
+  EXPECT_EQ(check(request(0x06, 30, 1)), kIllegalDataAddress);  // outside the bank
+  EXPECT_EQ(check(request(0x03, 20, 3)), kIllegalDataAddress);  // runs past the bank
+  EXPECT_EQ(check(request(0x03, 100, 1)), kIllegalDataAddress);
+  EXPECT_EQ(check(request(0x16, 20, 1, 0)), kIllegalDataAddress);  // mask write onto status
+  EXPECT_EQ(check(request(0x17, 14, 8, 0, 14)), 0);  // FC23: write inputs, read outputs
+  EXPECT_EQ(check(request(0x17, 14, 8, 14, 2)), kIllegalDataAddress);
+  EXPECT_EQ(check(request(0x17, 14, 9, 0, 2)), kIllegalDataAddress);
+}
+
+TEST(ServerBank, RefusesFunctionsAndMalformedRequestsAsTheProtocolOrdersIt) {
+  const ServerLayout l = layoutServerBank(parse(serverJson()).registers);
+  const auto check = [&](std::vector<std::uint8_t> p) { return refuseRequest(l, p); };
+  // Functions the bank does not serve, including a code with the high bit (no request has it).
+  for (const int fc : {0x01, 0x02, 0x04, 0x05, 0x07, 0x0F, 0x11, 0x2B, 0x83, 0x90}) {
+    EXPECT_EQ(check(request(static_cast<std::uint8_t>(fc), 0, 1)), kIllegalFunction) << int(fc);
+  }
+  EXPECT_EQ(check({}), kIllegalFunction);
+  // Quantities of 0 or beyond what one reply or request carries; the function comes first, the
+  // quantity before the address.
+  EXPECT_EQ(check(request(0x03, 0, 0)), kIllegalDataValue);
+  EXPECT_EQ(check(request(0x03, 0, 126)), kIllegalDataValue);
+  EXPECT_EQ(check(request(0x03, 500, 0)), kIllegalDataValue);
+  EXPECT_EQ(check(request(0x10, 0, 0)), kIllegalDataValue);
+  EXPECT_EQ(check(request(0x17, 14, 0, 0, 2)), kIllegalDataValue);
+  EXPECT_EQ(check(request(0x17, 14, 8, 0, 0)), kIllegalDataValue);
+  // A byte count that does not match the quantity, or data that does not match the byte count.
+  auto fc16 = request(0x10, 0, 6);
+  fc16[5] = 10;
+  EXPECT_EQ(check(fc16), kIllegalDataValue);
+  fc16 = request(0x10, 0, 6);
+  fc16.pop_back();
+  EXPECT_EQ(check(fc16), kIllegalDataValue);
+  fc16 = request(0x10, 0, 6);
+  fc16.push_back(0);
+  EXPECT_EQ(check(fc16), kIllegalDataValue);
+  auto fc23 = request(0x17, 14, 8, 0, 14);
+  fc23[9] = 2;
+  EXPECT_EQ(check(fc23), kIllegalDataValue);
+  // Fixed-length functions with a byte too few or too many.
+  auto fc03 = request(0x03, 14, 8);
+  fc03.push_back(0);
+  EXPECT_EQ(check(fc03), kIllegalDataValue);
+  EXPECT_EQ(check({0x06, 0, 1, 0}), kIllegalDataValue);
+  EXPECT_EQ(check({0x16, 0, 6, 0xFF, 0xFE}), kIllegalDataValue);
 }
 
 TEST(ServerBank, OutputsInsideTheInputSpanAreStillRefused) {
@@ -151,8 +225,8 @@ TEST(ServerBank, OutputsInsideTheInputSpanAreStillRefused) {
   j["registers"]["status"] = 16;
   j["registers"]["heartbeat"] = 17;
   const ServerLayout l = layoutServerBank(parse(j).registers);
-  EXPECT_EQ(refuseRequest(l, *parseServerRequest(pdu(0x06, 20, 1))), 0);  // a gap of the block
-  EXPECT_EQ(refuseRequest(l, *parseServerRequest(pdu(0x10, 8, 4))), kIllegalDataAddress);
+  EXPECT_EQ(refuseRequest(l, request(0x06, 20, 1)), 0);  // a gap of the block
+  EXPECT_EQ(refuseRequest(l, request(0x10, 8, 4)), kIllegalDataAddress);
 }
 
 TEST(ServerBank, PositionSetCompletesWhenEveryPositionRegisterIsWritten) {
@@ -209,6 +283,17 @@ TEST(ServerConfig, DefaultsAndKeys) {
   EXPECT_EQ(s.server.allowedClients[1], inet_addr("10.1.2.3"));
   EXPECT_EQ(s.server.maxConnections, 3);
   EXPECT_EQ(s.server.trigger, CycleTrigger::Timer);
+  // Connection upkeep: defaults, then each set.
+  EXPECT_EQ(s.server.idleTimeoutS, 60);
+  EXPECT_EQ(s.server.keepaliveS, 10);
+  EXPECT_EQ(s.server.takeoverAfterMs, 1000);
+  j["idle_timeout_s"] = 0;
+  j["keepalive_s"] = 5;
+  j["takeover_after_ms"] = 250;
+  const ModbusSettings t = parse(j);
+  EXPECT_EQ(t.server.idleTimeoutS, 0);
+  EXPECT_EQ(t.server.keepaliveS, 5);
+  EXPECT_EQ(t.server.takeoverAfterMs, 250);
 
   // The client role is the default and unchanged.
   EXPECT_EQ(parse(test::tcpTransportJson(1502)).role, ModbusRole::Client);
@@ -251,6 +336,16 @@ TEST(ServerConfig, TypedErrorsWithKeyPaths) {
   j = serverJson();
   j["max_connections"] = 0;
   expectRejected(j, "transport.max_connections", "");
+
+  j = serverJson();
+  j["idle_timeout_s"] = -1;
+  expectRejected(j, "transport.idle_timeout_s", "");
+  j = serverJson();
+  j["keepalive_s"] = 1.5;
+  expectRejected(j, "transport.keepalive_s", "");
+  j = serverJson();
+  j["takeover_after_ms"] = 0;
+  expectRejected(j, "transport.takeover_after_ms", "");
 
   j = serverJson();
   j["cycle_trigger"] = "poll";

@@ -137,8 +137,8 @@ TEST(ModbusServerPort, RefusesWritesOutsideTheInputBlockWithIllegalDataAddress) 
   EXPECT_EQ(modbus_read_registers(master.ctx, 20, 4, four.data()), -1);
   EXPECT_EQ(errno, EMBXILADD);
   EXPECT_EQ(modbus_read_input_registers(master.ctx, 0, 1, four.data()), -1);
-  EXPECT_EQ(errno, EMBXILADD);
-  EXPECT_EQ(port.counters().refused, 3U);  // the FC04 is libmodbus' own refusal
+  EXPECT_EQ(errno, EMBXILFUN);  // the bank has holding registers only
+  EXPECT_EQ(port.counters().refused, 4U);
   // The connection stays usable, and nothing was written.
   ASSERT_EQ(modbus_read_registers(master.ctx, 14, 4, four.data()), 4);
   EXPECT_EQ(four[0], 0);
@@ -242,6 +242,10 @@ TEST(ModbusServerPort, RtuOverAPseudoTerminal) {
   EXPECT_EQ(out[7], 9);
   EXPECT_EQ(modbus_write_register(ctx, 20, 1), -1);
   EXPECT_EQ(errno, EMBXILADD);
+  // A function the bank does not serve: refused at once, not after libmodbus' timeout wait.
+  modbus_set_response_timeout(ctx, 0, 200000);
+  EXPECT_EQ(modbus_read_input_registers(ctx, 0, 1, out.data()), -1);
+  EXPECT_EQ(errno, EMBXILFUN);
   // Another slave id gets no answer (a bus may carry several).
   modbus_set_slave(ctx, port.settings().slaveId + 1);
   modbus_set_response_timeout(ctx, 0, 200000);

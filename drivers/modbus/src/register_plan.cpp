@@ -71,13 +71,14 @@ RegisterPlan planRegisters(const RegisterMap& m) noexcept {
   return {holding.block(), input.block(), write.block()};
 }
 
+// A NaN or infinity from the controller is its data, not a failed transaction: it reaches the
+// loop as NaN, which faults it as invalid input (latched), never as a transport error.
 std::error_code decodeInputs(const RegisterMap& m, ConstTableView holding, ConstTableView input,
                              loop::AxisSample& out) noexcept {
-  std::error_code result;
   for (std::size_t i = 0; i < 3; ++i) {
     const auto& p = m.position[i];
     const auto regs = at(pick(p.table, holding, input), p.address, registerWidth(p.format.type));
-    if (auto ec = toError(decode(regs, p.format, out.positionMm[i])); ec && !result) result = ec;
+    decode(regs, p.format, out.positionMm[i]);
   }
   auto bit = [&](const BitRegister& b) {
     return ((at(pick(b.table, holding, input), b.address, 1)[0] >> b.bit) & 1U) != 0;
@@ -99,11 +100,10 @@ std::error_code decodeInputs(const RegisterMap& m, ConstTableView holding, Const
     for (std::size_t i = 0; i < 3; ++i) {
       const auto& a = (*m.appliedOffset)[i];
       const auto regs = at(pick(a.table, holding, input), a.address, registerWidth(a.format.type));
-      if (auto ec = toError(decode(regs, a.format, out.appliedOffsetMm[i])); ec && !result)
-        result = ec;
+      decode(regs, a.format, out.appliedOffsetMm[i]);
     }
   }
-  return result;
+  return {};
 }
 
 std::error_code encodeOutputs(const RegisterMap& m, const loop::OffsetCommand& command,

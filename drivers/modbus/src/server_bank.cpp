@@ -65,11 +65,48 @@ std::optional<ServerRequest> parseServerRequest(std::span<const std::uint8_t> pd
   return r;
 }
 
-std::uint8_t refuseRequest(const ServerLayout& layout, const ServerRequest& request) noexcept {
-  // A zero quantity is libmodbus' to refuse (ILLEGAL DATA VALUE); only ranges are checked here.
-  if (request.read.count > 0 && !inside(layout.bank, request.read)) return kIllegalDataAddress;
-  if (request.write.count > 0 &&
-      (!inside(layout.masterWrite, request.write) || overlaps(layout.output, request.write))) {
+std::uint8_t refuseRequest(const ServerLayout& layout, std::span<const std::uint8_t> pdu) noexcept {
+  if (pdu.empty()) return kIllegalFunction;
+  const std::uint8_t* p = pdu.data();
+  const std::size_t size = pdu.size();
+  // Quantity limits are the protocol's: what one request or its reply can carry.
+  const auto quantity = [](std::uint16_t n, std::uint16_t most) noexcept {
+    return n >= 1 && n <= most;
+  };
+  Block read;
+  Block write;
+  switch (p[0]) {
+    case 0x03:
+      if (size != 5 || !quantity(word(p + 3), 125)) return kIllegalDataValue;
+      read = {word(p + 1), word(p + 3)};
+      break;
+    case 0x06:
+      if (size != 5) return kIllegalDataValue;
+      write = {word(p + 1), 1};
+      break;
+    case 0x16:
+      if (size != 7) return kIllegalDataValue;
+      write = {word(p + 1), 1};
+      break;
+    case 0x10:
+      if (size < 6 || !quantity(word(p + 3), 123) || p[5] != 2 * word(p + 3) || size != 6U + p[5]) {
+        return kIllegalDataValue;
+      }
+      write = {word(p + 1), word(p + 3)};
+      break;
+    case 0x17:
+      if (size < 10 || !quantity(word(p + 3), 125) || !quantity(word(p + 7), 121) ||
+          p[9] != 2 * word(p + 7) || size != 10U + p[9]) {
+        return kIllegalDataValue;
+      }
+      read = {word(p + 1), word(p + 3)};
+      write = {word(p + 5), word(p + 7)};
+      break;
+    default:
+      return kIllegalFunction;
+  }
+  if (read.count > 0 && !inside(layout.bank, read)) return kIllegalDataAddress;
+  if (write.count > 0 && (!inside(layout.masterWrite, write) || overlaps(layout.output, write))) {
     return kIllegalDataAddress;
   }
   return 0;

@@ -370,6 +370,9 @@ modbus::ServerSettings parseServer(const JsonReader& r, bool tcp) {
     for (const JsonReader& a : list->elements(1, 64)) s.allowedClients.push_back(parseIpv4(a));
   }
   s.maxConnections = static_cast<int>(r.integerOr("max_connections", 1, 64, 1));
+  s.idleTimeoutS = static_cast<int>(r.integerOr("idle_timeout_s", 0, 86400, 60));
+  s.keepaliveS = static_cast<int>(r.integerOr("keepalive_s", 0, 3600, 10));
+  s.takeoverAfterMs = static_cast<int>(r.integerOr("takeover_after_ms", 10, 3600000, 1000));
   return s;
 }
 
@@ -389,7 +392,8 @@ ModbusSettings parseModbusSettings(const nlohmann::json& section, const std::str
   if (type == "modbus-tcp") {
     if (server) {
       r.allowOnly({"type", "role", "port", "listen_address", "allowed_clients", "max_connections",
-                   "cycle_trigger", "slave_id", "response_timeout_ms", "registers"});
+                   "idle_timeout_s", "keepalive_s", "takeover_after_ms", "cycle_trigger",
+                   "slave_id", "response_timeout_ms", "registers"});
     } else {
       r.allowOnly({"type", "role", "host", "port", "slave_id", "response_timeout_ms",
                    "link_loss_timeouts", "registers"});

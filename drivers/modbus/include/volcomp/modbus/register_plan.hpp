@@ -48,7 +48,8 @@ struct ConstTableView {
 
 /// Decodes every input of `map` into `out` (positions, enable, homed, sequence and applied
 /// offsets when mapped). `holding` and `input` must cover the plan's read blocks.
-/// Errors: Errc::value_not_finite for a NaN/infinite float (out is then partly written).
+/// A float register holding NaN or infinity (or a value the scale makes infinite) is decoded as
+/// NaN: the loop faults on it as invalid input. Never fails.
 std::error_code decodeInputs(const RegisterMap& map, ConstTableView holding, ConstTableView input,
                              loop::AxisSample& out) noexcept;
 

@@ -8,7 +8,7 @@
 /// holdingRead) and every output the master reads (offsets, status, heartbeat: the plan's write
 /// block). The master may read anywhere in the bank (FC03, or the read half of FC23) and write
 /// only inside the input block (FC06, FC16, FC22, the write half of FC23), never an output
-/// register; anything else is refused with ILLEGAL DATA ADDRESS (exception 2).
+/// register; anything else is refused with an exception (refuseRequest).
 
 #include <array>
 #include <cstdint>
@@ -38,18 +38,28 @@ struct ServerRequest {
   Block write;
 };
 
-/// Reads function code and ranges from a request PDU (function code first, as after libmodbus'
+/// Reads function code and ranges from a request PDU (function code first, as after the ADU's
 /// header). FC03, FC06, FC16, FC22 and FC23 give ranges; other functions give the function only.
 /// nullopt when the PDU is too short for its function.
 std::optional<ServerRequest> parseServerRequest(std::span<const std::uint8_t> pdu) noexcept;
 
-/// Modbus exception codes the server answers with.
+/// Modbus exception codes the server answers with (Modbus Application Protocol v1.1b3, 7).
+inline constexpr std::uint8_t kIllegalFunction = 1;
 inline constexpr std::uint8_t kIllegalDataAddress = 2;
+inline constexpr std::uint8_t kIllegalDataValue = 3;
 
-/// 0 when the request may go to libmodbus (which still checks quantities and functions), else
-/// the exception to answer: kIllegalDataAddress for a read outside the bank or a write outside
-/// the input block (or onto an output register).
-std::uint8_t refuseRequest(const ServerLayout& layout, const ServerRequest& request) noexcept;
+/// Decides a whole request PDU (exactly its bytes, function code first) before libmodbus sees
+/// it, so that libmodbus answers only requests it serves without an exception (it waits out its
+/// response timeout before some of its own exception replies, which would hold every other
+/// connection). 0: FC03, FC06, FC16, FC22 or FC23, of the function's exact length, with legal
+/// quantities and a byte count that matches, reading inside the bank and writing inside the input
+/// block. Otherwise the exception, checked in the order of the protocol's request processing:
+/// kIllegalFunction for any other function (FC04 and the coil functions included: the bank has
+/// holding registers only; a function code of 0x80 or above is no request), kIllegalDataValue for
+/// a wrong length, a quantity of 0 or above the function's maximum, or a byte count that does not
+/// match, kIllegalDataAddress for a range outside the bank or a write outside the input block
+/// (or onto an output register).
+std::uint8_t refuseRequest(const ServerLayout& layout, std::span<const std::uint8_t> pdu) noexcept;
 
 /// Tracks the master's writes of the position registers: a position set is complete once every
 /// register of positions X, Y and Z has been written since the last complete set (in one

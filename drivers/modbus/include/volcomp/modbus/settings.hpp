@@ -43,7 +43,18 @@ struct ServerSettings {
   std::string listenAddress = "127.0.0.1";  ///< IPv4 address to bind (TCP)
   /// IPv4 addresses (network byte order) allowed to connect; empty = any (TCP).
   std::vector<std::uint32_t> allowedClients;
-  int maxConnections = 1;  ///< simultaneous TCP connections; a further one is closed at once
+  /// Simultaneous TCP connections. When all are taken, a new connection from an allowed client
+  /// replaces the one silent longest if that one has sent no request for takeoverAfterMs;
+  /// otherwise the new one is closed at once.
+  int maxConnections = 1;
+  /// A connection that sends no request for this long is closed, s (0 = never).
+  int idleTimeoutS = 60;
+  /// TCP keepalive: probes start after this many seconds of silence from the peer and repeat at
+  /// the same interval; 3 unanswered probes close the connection (a peer that lost power or
+  /// rebooted without closing it). 0 = off.
+  int keepaliveS = 10;
+  /// Silence after which a connection gives its slot to a new one when all slots are taken, ms.
+  int takeoverAfterMs = 1000;
   CycleTrigger trigger = CycleTrigger::Write;
   bool operator==(const ServerSettings&) const = default;
 };
@@ -53,7 +64,9 @@ struct ModbusSettings {
   ServerSettings server;  ///< used with role Server only
   std::variant<TcpLink, RtuLink> link;
   int slaveId = 1;
-  /// Maximum wait for a response to one transaction (and between bytes of a response), ms.
+  /// Maximum wait for a response to one transaction (and between bytes of a response), ms. In the
+  /// server role: the longest a request may take to arrive, first byte to last (TCP: a slower
+  /// sender is disconnected; RTU: the byte timeout).
   double responseTimeoutMs = 50.0;
   /// This many consecutive response timeouts mean the link is gone: the driver closes it and
   /// reports not_connected, so that the loop reconnects.

@@ -2,20 +2,31 @@
 /// The server role: volcompd holds the register bank (the same typed register map as the client
 /// role, laid out by server_bank.hpp) and a controller acting as Modbus master writes positions,
 /// enable, homed, fault ack, life counter and applied offsets, and reads offsets, status and
-/// heartbeat. Implements the loop's ControllerPort over libmodbus' server side (TCP: listen,
-/// accept, modbus_receive/modbus_reply on each connection; RTU: the serial device as slave).
+/// heartbeat. Implements the loop's ControllerPort over libmodbus' server side.
 ///
-/// Threads: a service thread answers the master; the loop's read() and write() copy the inputs
-/// out of and the outputs into the bank under a mutex held for a copy only (never during I/O), so
-/// a slow or hostile master cannot stall a cycle. read() and write() never allocate.
+/// TCP: one service thread serves every connection without ever waiting on one. It collects each
+/// connection's bytes as they come (non-blocking; the MBAP header says where a request ends,
+/// tcp_adu.hpp), answers one whole request per connection in turn, refuses what the bank does not
+/// serve with the exception at once (server_bank.hpp's refuseRequest; libmodbus' own exception
+/// path waits out a response timeout), and passes only requests it serves to modbus_reply. A
+/// request that takes longer than response_timeout_ms from its first byte to its last, a header
+/// that is no Modbus/TCP header, a master that does not read its replies, and a connection silent
+/// for idle_timeout_s are closed; TCP keepalive finds a peer that vanished. When max_connections
+/// are open, a new connection from an allowed client replaces the one silent longest if it has
+/// been silent for takeover_after_ms (a master that polls is never displaced), otherwise it is
+/// closed. RTU: the serial device as slave (one master: modbus_receive, then the same refusals).
+///
+/// Threads: the loop's read() and write() copy the inputs out of and the outputs into the bank
+/// under a mutex held for a copy only (never during I/O), so a slow or hostile master cannot
+/// stall a cycle. read() and write() never allocate.
 ///
 /// Freshness: read() reports hasSequence with a count of fresh position sets in place of the
-/// master's life counter. It advances when the master completes a position set (every position
-/// register written since the previous set) and, if a life counter is mapped, that counter has
-/// changed since the previous advance. The loop's stale timeout therefore applies exactly as in
-/// the client role: a master that stops writing (or whose life counter freezes) is StaleInput.
-/// Until the first complete set read() fails with Errc::no_master_write (the loop stays in
-/// Starting).
+/// master's life counter. It advances when a master completes a position set (every position
+/// register written over one connection since that connection's previous set) and, if a life
+/// counter is mapped, that counter has changed since the previous advance. The loop's stale
+/// timeout therefore applies exactly as in the client role: a master that stops writing (or whose
+/// life counter freezes) is StaleInput. Until the first complete set read() fails with
+/// Errc::no_master_write (the loop stays in Starting).
 ///
 /// Link: connect() opens the listening socket (TCP) or the device (RTU) and starts the service
 /// thread; a master coming and going is not a link event (its silence is stale input). An RTU
@@ -23,6 +34,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -37,6 +49,7 @@
 #include "volcomp/modbus/register_plan.hpp"
 #include "volcomp/modbus/server_bank.hpp"
 #include "volcomp/modbus/settings.hpp"
+#include "volcomp/modbus/tcp_adu.hpp"
 
 struct _modbus;            // libmodbus' modbus_t
 struct _modbus_mapping_t;  // libmodbus' modbus_mapping_t
@@ -46,10 +59,13 @@ namespace volcomp::modbus {
 /// Counters of the service thread (any thread may read them).
 struct ServerCounters {
   std::atomic<std::uint64_t> requests{0};
-  std::atomic<std::uint64_t> refused{0};  ///< answered with an exception by the address check
+  std::atomic<std::uint64_t> refused{0};  ///< answered with an exception (refuseRequest)
   std::atomic<std::uint64_t> positionSets{0};
   std::atomic<std::uint64_t> connections{0};         ///< accepted
   std::atomic<std::uint64_t> refusedConnections{0};  ///< disallowed address or over the limit
+  std::atomic<std::uint64_t> replacedConnections{
+      0};                                            ///< silent ones that gave a new one their slot
+  std::atomic<std::uint64_t> droppedConnections{0};  ///< closed for slowness, silence or garbage
 };
 
 class ModbusServerPort final : public loop::ControllerPort {
@@ -83,22 +99,41 @@ class ModbusServerPort final : public loop::ControllerPort {
   const ServerCounters& counters() const noexcept { return counters_; }
 
  private:
+  using SteadyClock = std::chrono::steady_clock;
   struct Client {
+    Client(int socket, std::string name, const RegisterMap& map, SteadyClock::time_point now)
+        : fd(socket), peer(std::move(name)), tracker(map), lastRequest(now) {}
     int fd = -1;
     std::string peer;
+    PositionWriteTracker tracker;  // a set is complete over one connection
+    std::array<std::uint8_t, kMaxTcpAduBytes> received{};
+    std::size_t filled = 0;
+    SteadyClock::time_point partialSince;  // first byte of the request still arriving
+    SteadyClock::time_point lastRequest;   // accepted, or the last whole request
   };
-  void serve() noexcept;
-  void acceptClient() noexcept;
-  void closeClient(std::size_t index, const char* why) noexcept;
-  /// Receives and answers one request on `fd`; false when the connection (or device) is unusable.
-  bool answer(int fd) noexcept;
+  void serveTcp() noexcept;
+  void serveRtu() noexcept;
+  /// Milliseconds until the next connection deadline (-1: none); closes those already past.
+  int expireClients(SteadyClock::time_point now) noexcept;
+  void acceptClient(SteadyClock::time_point now) noexcept;
+  void closeClient(std::size_t index, const std::string& why) noexcept;
+  /// Reads what has arrived on a connection; false when it is closed, broken or out of step.
+  bool receive(Client& client, SteadyClock::time_point now, std::string& why) noexcept;
+  /// Answers the whole request at the front of the connection's bytes; false when the reply
+  /// could not be sent.
+  bool answerTcp(Client& client, SteadyClock::time_point now) noexcept;
+  /// Receives and answers one request on the serial device; false when the device failed.
+  bool answerRtu() noexcept;
+  /// Serves an accepted request (libmodbus' reply; the master's writes into the inputs).
+  int reply(const std::uint8_t* adu, int length, std::span<const std::uint8_t> pdu,
+            PositionWriteTracker& tracker) noexcept;
   void notice(bool warning, const std::string& line) const;
 
   ModbusSettings settings_;
   Notice notice_;
   std::function<void()> trigger_;
   ServerLayout layout_;
-  PositionWriteTracker tracker_;  // service thread only
+  PositionWriteTracker rtuTracker_;  // service thread only
   _modbus* ctx_ = nullptr;
   _modbus_mapping_t* mapping_ = nullptr;  // service thread only while serving
   std::thread thread_;
@@ -110,7 +145,7 @@ class ModbusServerPort final : public loop::ControllerPort {
   std::atomic<bool> failed_{false};
   std::atomic<bool> triggerPending_{false};
   ServerCounters counters_;
-  std::array<std::uint8_t, 260> query_{};  // MODBUS_TCP_MAX_ADU_LENGTH
+  std::array<std::uint8_t, 260> query_{};  // RTU: MODBUS_RTU_MAX_ADU_LENGTH is 256
 
   // Shared between the service thread and the loop, under mutex_.
   std::mutex mutex_;

@@ -1,0 +1,288 @@
+// The server port with a hostile master beside a good one, in process: the good master is
+// libmodbus' client (a peer we did not write), the hostile one a raw socket that sends what
+// scanners, silent HMIs and broken masters send. Synchronised on conditions only; the hostile
+// sender's own pacing is the only sleep.
+#include <arpa/inet.h>
+#include <modbus/modbus.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "test_maps.hpp"
+#include "volcomp/config/modbus_config.hpp"
+#include "volcomp/modbus/server_port.hpp"
+#include "wait_until.hpp"
+
+namespace volcomp::modbus {
+namespace {
+
+using nlohmann::json;
+using std::chrono::milliseconds;
+using testutil::waitUntil;
+using Bytes = std::vector<std::uint8_t>;
+
+ModbusSettings serverSettings(const json& extra) {
+  json j = test::tcpTransportJson(0);
+  j.erase("host");
+  j.erase("link_loss_timeouts");
+  j["role"] = "server";
+  j["registers"].erase("fc23");
+  for (const auto& [key, value] : extra.items()) j[key] = value;
+  return config::parseModbusSettings(j, "test.json", "transport");
+}
+
+/// A TCP connection that sends and receives raw bytes.
+class RawConnection {
+ public:
+  explicit RawConnection(std::uint16_t port)
+      : fd_(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0)) {
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(port);
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
+  }
+  ~RawConnection() { ::close(fd_); }
+  RawConnection(const RawConnection&) = delete;
+  RawConnection& operator=(const RawConnection&) = delete;
+
+  bool connected() const { return connected_; }
+  bool send(const Bytes& bytes) {
+    return ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL) ==
+           static_cast<ssize_t>(bytes.size());
+  }
+  /// Up to `n` bytes, waiting at most `timeout` for them; fewer when the peer closed or the
+  /// time ran out.
+  Bytes receive(std::size_t n, milliseconds timeout) {
+    Bytes out;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (out.size() < n) {
+      const auto left =
+          std::chrono::duration_cast<milliseconds>(deadline - std::chrono::steady_clock::now());
+      pollfd p{fd_, POLLIN, 0};
+      if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) break;
+      std::uint8_t buffer[260];
+      const ssize_t got = ::recv(fd_, buffer, std::min(sizeof buffer, n - out.size()), 0);
+      if (got <= 0) break;
+      out.insert(out.end(), buffer, buffer + got);
+    }
+    return out;
+  }
+  /// True when the server closes the connection within `timeout`.
+  bool closedByServer(milliseconds timeout) {
+    pollfd p{fd_, POLLIN, 0};
+    if (::poll(&p, 1, static_cast<int>(timeout.count())) <= 0) return false;
+    std::uint8_t byte = 0;
+    return ::recv(fd_, &byte, 1, 0) <= 0;
+  }
+
+ private:
+  int fd_;
+  bool connected_ = false;
+};
+
+/// A Modbus/TCP request: transaction id, unit 1, the PDU.
+Bytes adu(std::uint16_t transaction, const Bytes& pdu) {
+  Bytes out = {static_cast<std::uint8_t>(transaction >> 8),
+               static_cast<std::uint8_t>(transaction & 0xFF),
+               0,
+               0,
+               static_cast<std::uint8_t>((pdu.size() + 1) >> 8),
+               static_cast<std::uint8_t>((pdu.size() + 1) & 0xFF),
+               1};
+  out.insert(out.end(), pdu.begin(), pdu.end());
+  return out;
+}
+
+const Bytes kReadOutputs = {0x03, 0, 14, 0, 8};
+
+/// libmodbus' client reading the outputs as a PLC does, on its own thread, counting failures
+/// and the longest transaction.
+class GoodMaster {
+ public:
+  explicit GoodMaster(std::uint16_t port) : ctx_(modbus_new_tcp("127.0.0.1", port)) {
+    modbus_set_response_timeout(ctx_, 0, 400000);
+    connected_ = modbus_connect(ctx_) == 0;
+    if (connected_) thread_ = std::thread([this] { run(); });
+  }
+  ~GoodMaster() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+    modbus_close(ctx_);
+    modbus_free(ctx_);
+  }
+  bool connected() const { return connected_; }
+  int transactions() const { return transactions_; }
+  int failures() const { return failures_; }
+  double longestMs() const { return static_cast<double>(longestUs_.load()) / 1000.0; }
+
+ private:
+  void run() {
+    std::array<std::uint16_t, 8> out{};
+    while (!stop_) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const bool ok = modbus_read_registers(ctx_, 14, 8, out.data()) == 8;
+      const auto us = std::chrono::duration_cast<std::chrono::microseconds>(
+                          std::chrono::steady_clock::now() - t0)
+                          .count();
+      longestUs_ = std::max<long>(longestUs_, static_cast<long>(us));
+      ++transactions_;
+      if (!ok) ++failures_;
+    }
+  }
+  modbus_t* ctx_;
+  bool connected_ = false;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::atomic<int> transactions_{0};
+  std::atomic<int> failures_{0};
+  std::atomic<long> longestUs_{0};
+};
+
+TEST(ServerHostile, MalformedRequestsAreAnsweredAtOnceWithTheirException) {
+  // libmodbus' own replies to these wait out the response timeout first: 5 s here.
+  ModbusServerPort port(serverSettings({{"response_timeout_ms", 5000}}));
+  ASSERT_FALSE(port.connect());
+  RawConnection scanner(port.boundPort());
+  ASSERT_TRUE(scanner.connected());
+  struct Case {
+    Bytes pdu;
+    std::uint8_t function;
+    std::uint8_t code;
+  };
+  const std::vector<Case> cases = {
+      {{0x2B, 0x0E, 0x01, 0x00}, 0xAB, 1},           // read device identification
+      {{0x03, 0, 14, 0, 0}, 0x83, 3},                // FC03, quantity 0
+      {{0x10, 0, 0, 0, 2, 6, 0, 1, 0, 2}, 0x90, 3},  // FC16, byte count 6 for 2 registers
+      {{0x83, 0, 14, 0, 8}, 0x83, 1},                // an exception's function code as request
+      {{0x04, 0, 0, 0, 1}, 0x84, 1},                 // input registers: the bank has none
+  };
+  std::uint16_t transaction = 1;
+  for (const Case& c : cases) {
+    ASSERT_TRUE(scanner.send(adu(transaction, c.pdu)));
+    const Bytes reply = scanner.receive(9, milliseconds(2000));
+    ASSERT_EQ(reply.size(), 9U) << "function " << int(c.pdu[0]);
+    EXPECT_EQ(reply[1], transaction & 0xFF);
+    EXPECT_EQ(reply[5], 3);  // length: unit, function, code
+    EXPECT_EQ(reply[7], c.function);
+    EXPECT_EQ(reply[8], c.code);
+    ++transaction;
+  }
+  // The connection stays usable: a good request is served.
+  ASSERT_TRUE(scanner.send(adu(99, kReadOutputs)));
+  const Bytes reply = scanner.receive(9 + 16, milliseconds(2000));
+  ASSERT_EQ(reply.size(), 25U);
+  EXPECT_EQ(reply[7], 0x03);
+  EXPECT_EQ(reply[8], 16);
+  EXPECT_EQ(port.counters().refused, cases.size());
+}
+
+TEST(ServerHostile, PipelinedRequestsAreAnsweredInOrderAndAStreamOutOfStepIsClosed) {
+  ModbusServerPort port(serverSettings({{"max_connections", 2}}));
+  ASSERT_FALSE(port.connect());
+  RawConnection master(port.boundPort());
+  Bytes two = adu(7, kReadOutputs);
+  const Bytes second = adu(8, {0x03, 0, 0, 0, 2});
+  two.insert(two.end(), second.begin(), second.end());
+  ASSERT_TRUE(master.send(two));
+  const Bytes replies = master.receive(25 + 13, milliseconds(2000));
+  ASSERT_EQ(replies.size(), 38U);
+  EXPECT_EQ(replies[1], 7);
+  EXPECT_EQ(replies[25 + 1], 8);
+  EXPECT_EQ(replies[25 + 8], 4);
+
+  RawConnection garbage(port.boundPort());
+  ASSERT_TRUE(garbage.send({'G', 'E', 'T', ' ', '/', ' ', 'H', 'T', 'T', 'P'}));
+  EXPECT_TRUE(garbage.closedByServer(milliseconds(2000)));
+  EXPECT_EQ(port.counters().droppedConnections, 1U);
+}
+
+TEST(ServerHostile, ABadMasterNeverStallsAGoodOne) {
+  // With libmodbus' own receive and exception replies, each of these held every connection for
+  // up to the response timeout (1 s here); the good master gives up after 0.4 s.
+  ModbusServerPort port(serverSettings({{"max_connections", 3}, {"response_timeout_ms", 1000}}));
+  ASSERT_FALSE(port.connect());
+  GoodMaster good(port.boundPort());
+  ASSERT_TRUE(good.connected());
+  ASSERT_TRUE(waitUntil([&] { return good.transactions() >= 20; }));
+
+  // A slow sender: one byte of a request every 100 ms; cut 1 s after its first byte.
+  RawConnection slow(port.boundPort());
+  const Bytes request = adu(1, kReadOutputs);
+  bool cut = false;
+  for (std::size_t i = 0; i < request.size() && !cut; ++i) {
+    cut = !slow.send({request[i]});
+    std::this_thread::sleep_for(milliseconds(100));  // the hostile sender's pace
+  }
+  EXPECT_TRUE(cut || slow.closedByServer(milliseconds(2000)));
+  EXPECT_EQ(port.counters().droppedConnections, 1U);
+
+  // A scanner probing functions the bank does not serve, a request every 30 ms.
+  RawConnection scanner(port.boundPort());
+  for (std::uint16_t t = 0; t < 20; ++t) {
+    ASSERT_TRUE(scanner.send(adu(t, {static_cast<std::uint8_t>(0x2B + t), 0x0E, 0x01, 0x00})));
+    EXPECT_EQ(scanner.receive(9, milliseconds(2000)).size(), 9U);
+    std::this_thread::sleep_for(milliseconds(30));
+  }
+  const int before = good.transactions();
+  ASSERT_TRUE(waitUntil([&] { return good.transactions() >= before + 20; }));
+  EXPECT_EQ(good.failures(), 0) << "longest transaction " << good.longestMs() << " ms";
+}
+
+TEST(ServerHostile, ASilentConnectionGivesItsSlotToANewMasterAndAPollingOneKeepsIt) {
+  ModbusServerPort port(serverSettings({{"max_connections", 1}, {"takeover_after_ms", 300}}));
+  ASSERT_FALSE(port.connect());
+  // An HMI that connects and goes quiet, or a PLC that rebooted without closing its socket.
+  RawConnection silent(port.boundPort());
+  ASSERT_TRUE(waitUntil([&] { return port.counters().connections == 1; }));
+  // The PLC reconnects as it does, until it is served.
+  std::array<std::uint16_t, 8> out{};
+  bool served = false;
+  ASSERT_TRUE(waitUntil(
+      [&] {
+        modbus_t* ctx = modbus_new_tcp("127.0.0.1", port.boundPort());
+        modbus_set_response_timeout(ctx, 0, 200000);
+        served = modbus_connect(ctx) == 0 && modbus_read_registers(ctx, 14, 8, out.data()) == 8;
+        modbus_close(ctx);
+        modbus_free(ctx);
+        return served;
+      },
+      milliseconds(5000)));
+  EXPECT_EQ(port.counters().replacedConnections, 1U);
+  EXPECT_TRUE(silent.closedByServer(milliseconds(2000)));
+
+  // A master that polls is never displaced: the newcomer is refused.
+  GoodMaster plc(port.boundPort());
+  ASSERT_TRUE(waitUntil([&] { return plc.transactions() >= 50; }));
+  const auto refusedBefore = port.counters().refusedConnections.load();
+  RawConnection intruder(port.boundPort());
+  EXPECT_TRUE(intruder.closedByServer(milliseconds(2000)));
+  EXPECT_EQ(port.counters().refusedConnections, refusedBefore + 1);
+  const int before = plc.transactions();
+  ASSERT_TRUE(waitUntil([&] { return plc.transactions() >= before + 20; }));
+  EXPECT_EQ(plc.failures(), 0);
+}
+
+TEST(ServerHostile, AConnectionSilentForTheIdleTimeoutIsClosed) {
+  ModbusServerPort port(serverSettings({{"idle_timeout_s", 1}}));
+  ASSERT_FALSE(port.connect());
+  RawConnection quiet(port.boundPort());
+  ASSERT_TRUE(quiet.send(adu(1, kReadOutputs)));
+  ASSERT_EQ(quiet.receive(25, milliseconds(2000)).size(), 25U);
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_TRUE(quiet.closedByServer(milliseconds(5000)));
+  EXPECT_GE(std::chrono::steady_clock::now() - t0, milliseconds(900));
+  EXPECT_EQ(port.counters().droppedConnections, 1U);
+}
+
+}  // namespace
+}  // namespace volcomp::modbus

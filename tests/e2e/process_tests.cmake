@@ -22,7 +22,8 @@ volcomp_discover_tests(volcomp_e2e_process_tests AREA modbus KIND process
 
 # The Modbus server role: volcompd as a process driven by libmodbus' client and mbpoll over TCP
 # and RTU (pseudo-terminals); label modbus.
-add_executable(volcomp_e2e_server_tests modbus_server_e2e_test.cpp)
+add_executable(volcomp_e2e_server_tests modbus_server_e2e_test.cpp
+  modbus_server_hostile_e2e_test.cpp)
 target_link_libraries(volcomp_e2e_server_tests PRIVATE volcomp::daemon PkgConfig::MODBUS
                       nlohmann_json::nlohmann_json volcomp_testutil volcomp_warnings)
 volcomp_test_paths(volcomp_e2e_server_tests VOLCOMP_SIM_PATH=target:volcomp-sim

@@ -2,12 +2,7 @@
 // libmodbus' client (a peer we did not write), the hostile one a raw socket that sends what
 // scanners, silent HMIs and broken masters send. Synchronised on conditions only; the hostile
 // sender's own pacing is the only sleep.
-#include <arpa/inet.h>
 #include <modbus/modbus.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -17,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "raw_connection.hpp"
 #include "test_maps.hpp"
 #include "volcomp/config/modbus_config.hpp"
 #include "volcomp/modbus/server_port.hpp"
@@ -27,8 +23,10 @@ namespace {
 
 using nlohmann::json;
 using std::chrono::milliseconds;
+using testutil::Bytes;
+using testutil::modbusTcpAdu;
+using testutil::RawConnection;
 using testutil::waitUntil;
-using Bytes = std::vector<std::uint8_t>;
 
 ModbusSettings serverSettings(const json& extra) {
   json j = test::tcpTransportJson(0);
@@ -38,69 +36,6 @@ ModbusSettings serverSettings(const json& extra) {
   j["registers"].erase("fc23");
   for (const auto& [key, value] : extra.items()) j[key] = value;
   return config::parseModbusSettings(j, "test.json", "transport");
-}
-
-/// A TCP connection that sends and receives raw bytes.
-class RawConnection {
- public:
-  explicit RawConnection(std::uint16_t port)
-      : fd_(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0)) {
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_port = htons(port);
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
-  }
-  ~RawConnection() { ::close(fd_); }
-  RawConnection(const RawConnection&) = delete;
-  RawConnection& operator=(const RawConnection&) = delete;
-
-  bool connected() const { return connected_; }
-  bool send(const Bytes& bytes) {
-    return ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL) ==
-           static_cast<ssize_t>(bytes.size());
-  }
-  /// Up to `n` bytes, waiting at most `timeout` for them; fewer when the peer closed or the
-  /// time ran out.
-  Bytes receive(std::size_t n, milliseconds timeout) {
-    Bytes out;
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (out.size() < n) {
-      const auto left =
-          std::chrono::duration_cast<milliseconds>(deadline - std::chrono::steady_clock::now());
-      pollfd p{fd_, POLLIN, 0};
-      if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) break;
-      std::uint8_t buffer[260];
-      const ssize_t got = ::recv(fd_, buffer, std::min(sizeof buffer, n - out.size()), 0);
-      if (got <= 0) break;
-      out.insert(out.end(), buffer, buffer + got);
-    }
-    return out;
-  }
-  /// True when the server closes the connection within `timeout`.
-  bool closedByServer(milliseconds timeout) {
-    pollfd p{fd_, POLLIN, 0};
-    if (::poll(&p, 1, static_cast<int>(timeout.count())) <= 0) return false;
-    std::uint8_t byte = 0;
-    return ::recv(fd_, &byte, 1, 0) <= 0;
-  }
-
- private:
-  int fd_;
-  bool connected_ = false;
-};
-
-/// A Modbus/TCP request: transaction id, unit 1, the PDU.
-Bytes adu(std::uint16_t transaction, const Bytes& pdu) {
-  Bytes out = {static_cast<std::uint8_t>(transaction >> 8),
-               static_cast<std::uint8_t>(transaction & 0xFF),
-               0,
-               0,
-               static_cast<std::uint8_t>((pdu.size() + 1) >> 8),
-               static_cast<std::uint8_t>((pdu.size() + 1) & 0xFF),
-               1};
-  out.insert(out.end(), pdu.begin(), pdu.end());
-  return out;
 }
 
 const Bytes kReadOutputs = {0x03, 0, 14, 0, 8};
@@ -168,7 +103,7 @@ TEST(ServerHostile, MalformedRequestsAreAnsweredAtOnceWithTheirException) {
   };
   std::uint16_t transaction = 1;
   for (const Case& c : cases) {
-    ASSERT_TRUE(scanner.send(adu(transaction, c.pdu)));
+    ASSERT_TRUE(scanner.send(modbusTcpAdu(transaction, c.pdu)));
     const Bytes reply = scanner.receive(9, milliseconds(2000));
     ASSERT_EQ(reply.size(), 9U) << "function " << int(c.pdu[0]);
     EXPECT_EQ(reply[1], transaction & 0xFF);
@@ -178,7 +113,7 @@ TEST(ServerHostile, MalformedRequestsAreAnsweredAtOnceWithTheirException) {
     ++transaction;
   }
   // The connection stays usable: a good request is served.
-  ASSERT_TRUE(scanner.send(adu(99, kReadOutputs)));
+  ASSERT_TRUE(scanner.send(modbusTcpAdu(99, kReadOutputs)));
   const Bytes reply = scanner.receive(9 + 16, milliseconds(2000));
   ASSERT_EQ(reply.size(), 25U);
   EXPECT_EQ(reply[7], 0x03);
@@ -190,8 +125,8 @@ TEST(ServerHostile, PipelinedRequestsAreAnsweredInOrderAndAStreamOutOfStepIsClos
   ModbusServerPort port(serverSettings({{"max_connections", 2}}));
   ASSERT_FALSE(port.connect());
   RawConnection master(port.boundPort());
-  Bytes two = adu(7, kReadOutputs);
-  const Bytes second = adu(8, {0x03, 0, 0, 0, 2});
+  Bytes two = modbusTcpAdu(7, kReadOutputs);
+  const Bytes second = modbusTcpAdu(8, {0x03, 0, 0, 0, 2});
   two.insert(two.end(), second.begin(), second.end());
   ASSERT_TRUE(master.send(two));
   const Bytes replies = master.receive(25 + 13, milliseconds(2000));
@@ -217,7 +152,7 @@ TEST(ServerHostile, ABadMasterNeverStallsAGoodOne) {
 
   // A slow sender: one byte of a request every 100 ms; cut 1 s after its first byte.
   RawConnection slow(port.boundPort());
-  const Bytes request = adu(1, kReadOutputs);
+  const Bytes request = modbusTcpAdu(1, kReadOutputs);
   bool cut = false;
   for (std::size_t i = 0; i < request.size() && !cut; ++i) {
     cut = !slow.send({request[i]});
@@ -229,7 +164,8 @@ TEST(ServerHostile, ABadMasterNeverStallsAGoodOne) {
   // A scanner probing functions the bank does not serve, a request every 30 ms.
   RawConnection scanner(port.boundPort());
   for (std::uint16_t t = 0; t < 20; ++t) {
-    ASSERT_TRUE(scanner.send(adu(t, {static_cast<std::uint8_t>(0x2B + t), 0x0E, 0x01, 0x00})));
+    ASSERT_TRUE(
+        scanner.send(modbusTcpAdu(t, {static_cast<std::uint8_t>(0x2B + t), 0x0E, 0x01, 0x00})));
     EXPECT_EQ(scanner.receive(9, milliseconds(2000)).size(), 9U);
     std::this_thread::sleep_for(milliseconds(30));
   }
@@ -276,7 +212,7 @@ TEST(ServerHostile, AConnectionSilentForTheIdleTimeoutIsClosed) {
   ModbusServerPort port(serverSettings({{"idle_timeout_s", 1}}));
   ASSERT_FALSE(port.connect());
   RawConnection quiet(port.boundPort());
-  ASSERT_TRUE(quiet.send(adu(1, kReadOutputs)));
+  ASSERT_TRUE(quiet.send(modbusTcpAdu(1, kReadOutputs)));
   ASSERT_EQ(quiet.receive(25, milliseconds(2000)).size(), 25U);
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_TRUE(quiet.closedByServer(milliseconds(5000)));

@@ -22,12 +22,7 @@ using nlohmann::json;
 using ::testing::HasSubstr;
 
 json serverJson() {
-  json j = test::tcpTransportJson(0);
-  j.erase("host");
-  j.erase("link_loss_timeouts");
-  j["role"] = "server";
-  j["registers"].erase("fc23");
-  return j;
+  return test::serverTransportJson();
 }
 
 ModbusSettings parse(const json& j) {

@@ -29,13 +29,7 @@ using testutil::RawConnection;
 using testutil::waitUntil;
 
 ModbusSettings serverSettings(const json& extra) {
-  json j = test::tcpTransportJson(0);
-  j.erase("host");
-  j.erase("link_loss_timeouts");
-  j["role"] = "server";
-  j["registers"].erase("fc23");
-  for (const auto& [key, value] : extra.items()) j[key] = value;
-  return config::parseModbusSettings(j, "test.json", "transport");
+  return config::parseModbusSettings(test::serverTransportJson(extra), "test.json", "transport");
 }
 
 const Bytes kReadOutputs = {0x03, 0, 14, 0, 8};

@@ -28,13 +28,7 @@ using nlohmann::json;
 using testutil::waitUntil;
 
 ModbusSettings serverSettings(const json& extra = json::object()) {
-  json j = test::tcpTransportJson(0);
-  j.erase("host");
-  j.erase("link_loss_timeouts");
-  j["role"] = "server";
-  j["registers"].erase("fc23");
-  for (const auto& [key, value] : extra.items()) j[key] = value;
-  return config::parseModbusSettings(j, "test.json", "transport");
+  return config::parseModbusSettings(test::serverTransportJson(extra), "test.json", "transport");
 }
 
 struct Client {

@@ -47,4 +47,16 @@ inline nlohmann::json rtuTransportJson(const std::string& device) {
           {"registers", registersJson()}};
 }
 
+/// The server role's transport section over TCP on any free port (port 0), the test layout's
+/// bank, with the keys in `extra` added or replaced.
+inline nlohmann::json serverTransportJson(const nlohmann::json& extra = nlohmann::json::object()) {
+  nlohmann::json j = tcpTransportJson(0);
+  j.erase("host");
+  j.erase("link_loss_timeouts");
+  j["role"] = "server";
+  j["registers"].erase("fc23");
+  for (const auto& [key, value] : extra.items()) j[key] = value;
+  return j;
+}
+
 }  // namespace volcomp::test

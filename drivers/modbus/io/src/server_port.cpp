@@ -203,6 +203,9 @@ void ModbusServerPort::acceptClient(SteadyClock::time_point now) noexcept {
 
 bool ModbusServerPort::receive(Client& client, SteadyClock::time_point now,
                                std::string& why) noexcept {
+  // Full means a whole request is waiting (the largest fills the buffer exactly): read on once
+  // it is answered.
+  if (client.filled == client.received.size()) return true;
   const ssize_t n = ::recv(client.fd, client.received.data() + client.filled,
                            client.received.size() - client.filled, 0);
   if (n == 0) {

@@ -4,10 +4,16 @@
 // sender's own pacing is the only sleep.
 #include <modbus/modbus.h>
 
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -212,6 +218,50 @@ TEST(ServerHostile, AConnectionSilentForTheIdleTimeoutIsClosed) {
   EXPECT_TRUE(quiet.closedByServer(milliseconds(5000)));
   EXPECT_GE(std::chrono::steady_clock::now() - t0, milliseconds(900));
   EXPECT_EQ(port.counters().droppedConnections, 1U);
+}
+
+/// The kernel's timer on the server's end of a loopback connection (/proc/net/tcp: local port
+/// `serverPort`, remote port `clientPort`): {kind, clock ticks until it fires}; kind 2 is the
+/// keepalive timer. {-1, 0} when the socket is not listed.
+std::pair<int, long> serverSideTimer(std::uint16_t serverPort, std::uint16_t clientPort) {
+  std::ifstream in("/proc/net/tcp");
+  std::string line;
+  std::getline(in, line);  // the header
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string slot, local, remote, state, queues, timer;
+    fields >> slot >> local >> remote >> state >> queues >> timer;
+    const auto port = [](const std::string& address) {
+      return static_cast<std::uint16_t>(
+          std::stoul(address.substr(address.find(':') + 1), nullptr, 16));
+    };
+    if (port(local) != serverPort || port(remote) != clientPort) continue;
+    const auto colon = timer.find(':');
+    return {std::stoi(timer.substr(0, colon), nullptr, 16),
+            std::stol(timer.substr(colon + 1), nullptr, 16)};
+  }
+  return {-1, 0};
+}
+
+TEST(ServerHostile, KeepaliveProbesAPeerThatGoesSilent) {
+  ModbusServerPort port(serverSettings({{"keepalive_s", 7}}));
+  ASSERT_FALSE(port.connect());
+  RawConnection peer(port.boundPort());
+  ASSERT_TRUE(waitUntil([&] { return port.counters().connections == 1; }));
+  std::pair<int, long> timer;
+  ASSERT_TRUE(waitUntil([&] {
+    timer = serverSideTimer(port.boundPort(), peer.localPort());
+    return timer.first == 2;
+  })) << "timer kind "
+      << timer.first;
+  EXPECT_GT(timer.second, 0);
+  EXPECT_LE(timer.second, 7 * sysconf(_SC_CLK_TCK));  // the first probe within keepalive_s
+
+  ModbusServerPort off(serverSettings({{"keepalive_s", 0}}));
+  ASSERT_FALSE(off.connect());
+  RawConnection quiet(off.boundPort());
+  ASSERT_TRUE(waitUntil([&] { return off.counters().connections == 1; }));
+  EXPECT_EQ(serverSideTimer(off.boundPort(), quiet.localPort()).first, 0);
 }
 
 }  // namespace

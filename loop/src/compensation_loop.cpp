@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include "volcomp/loop/reload_limits.hpp"
+
 namespace volcomp::loop {
 namespace {
 
@@ -63,14 +65,19 @@ void CompensationLoop::setModel(std::shared_ptr<CompensationModel> model) noexce
   reloadedUntil_ = clock_.now() + settings_.noticeHold;
 }
 
+// A wider limit is not taken while compensating: what the controller was commissioned against
+// changes only through a restart. A narrower one is taken at once; an offset now outside the
+// band returns into it at the (stricter) rate, since the limiter never jumps into the band.
 void CompensationLoop::setSettings(const LoopSettings& settings) noexcept {
   const auto period = settings_.period;
   const bool readback = settings_.offsetReadback;
   const auto plcZeroAfter = settings_.plcZeroAfter;
+  const LimiterSettings limiter = stricterLimits(settings_.limiter, settings.limiter);
   settings_ = settings;
   settings_.period = period;
   settings_.offsetReadback = readback;
   settings_.plcZeroAfter = plcZeroAfter;
+  settings_.limiter = limiter;
   tracker_.setHysteresis(settings_.directionHysteresisMm);
   if (!settings_.faultLatch) latch_.release();
 }

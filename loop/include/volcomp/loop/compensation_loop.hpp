@@ -152,7 +152,10 @@ class CompensationLoop {
   /// limiter. Sets MODEL_RELOADED for a while and clears RELOAD_FAILED.
   void setModel(std::shared_ptr<CompensationModel> model) noexcept;
   /// Takes over new settings between cycles (limiter, timeouts, margins; the period and the
-  /// read-back mode only change on restart, the caller keeps them).
+  /// read-back mode only change on restart, the caller keeps them). The limiter's limits only
+  /// tighten: per axis and limit the stricter of the running and the new value is taken
+  /// (reload_limits.hpp); a wider one takes a new loop. Offsets outside a narrowed band return
+  /// into it at the rate limit.
   void setSettings(const LoopSettings& settings) noexcept;
   /// A reload was rejected: sets RELOAD_FAILED until the next successful one.
   void noteReloadFailed() noexcept { reloadFailed_ = true; }

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/daemon/limit_changes.hpp"
 
 namespace volcomp::daemon {
 
@@ -155,12 +156,18 @@ void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::stri
         next.plcZeroAfterMs != config_.plcZeroAfterMs) {
       spdlog::warn("offset_readback/plc_zero_after_ms changed: take effect on restart");
     }
+    const LimitChangeLines limits =
+        describeLimitChanges(loop_.settings().limiter, next.limiter, next.file);
     loop_.setSettings(loopSettingsFrom(next));
     loop_.setModel(loaded->model);
     spdlog::set_level(levelFromName(next.logLevel));
     spdlog::info("reloaded: model '{}' from {}", loaded->model->name(), next.modelPath);
+    for (const std::string& line : limits.tightened) spdlog::info("{}", line);
+    for (const std::string& line : limits.widened) spdlog::warn("{}", line);
     for (const std::string& warning : loaded->warnings) spdlog::warn("{}", warning);
-    // Keep what only a restart changes, so that later messages compare against what runs.
+    // Keep what only a restart changes, so that later messages compare against what runs: the
+    // limits the loop took (a widened one stays at its running value until a restart).
+    next.limiter = loop_.settings().limiter;
     next.cyclePeriodMs = config_.cyclePeriodMs;
     next.transport = config_.transport;
     next.offsetReadback = config_.offsetReadback;

@@ -53,7 +53,9 @@ class Daemon {
   /// SIGTERM/SIGINT: ramp out, write zero and status inactive, then finish (onFinished).
   void requestStop();
   /// SIGHUP: load and validate config and model off the io_context thread, then take them over
-  /// between cycles; a rejected file keeps everything as it was and sets RELOAD_FAILED.
+  /// between cycles; a rejected file keeps everything as it was and sets RELOAD_FAILED. The
+  /// limiter's limits only tighten: a wider one is logged (old -> new) and not taken, the running
+  /// value stays until a restart; a narrower one is taken and logged (limit_changes.hpp).
   void requestReload();
   /// Runs a cycle now, on the io_context thread (a Modbus master completed a position set with
   /// cycle_trigger "write"); the period timer then runs one only when no such event came for a

@@ -121,7 +121,20 @@ void CompensationLoop::adopt(const std::array<double, 3>& appliedMm) noexcept {
   envelope_.clear();
 }
 
-bool CompensationLoop::synchronise(time_point now) noexcept {
+// Where a read-back outside the band starts and where it ends, each reported once: the caller
+// logs the values that caused the fault and the recovery, not every cycle in between.
+void CompensationLoop::trackReadback(bool outside, CycleReport& report) noexcept {
+  if (outside == readbackOutside_) return;
+  readbackOutside_ = outside;
+  if (outside) {
+    report.readbackLeftBand = true;
+    report.readbackOutsideMm = sample_.appliedOffsetMm;
+  } else {
+    report.readbackBackInBand = true;
+  }
+}
+
+bool CompensationLoop::synchronise(time_point now, CycleReport& report) noexcept {
   std::array<double, 3> applied{};
   if (settings_.offsetReadback) {
     if (!sample_.hasAppliedOffsets) return false;
@@ -133,8 +146,10 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
     // holding more than this installation allows. The controller's watchdog removes them.
     if (!withinBand(settings_.limiter, sample_.appliedOffsetMm, settings_.readbackResolutionMm)) {
       fault_ = FaultCode::ReadbackOutOfRange;
+      trackReadback(true, report);
       return false;
     }
+    trackReadback(false, report);
     applied = sample_.appliedOffsetMm;
   } else if (now - lastSentTime_ < settings_.plcZeroAfter) {
     return false;
@@ -327,7 +342,11 @@ void CompensationLoop::applyLatch(bool readFailed, Decision& d, CycleReport& rep
 CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFailed,
                                                     CycleReport& report) noexcept {
   Decision d;
-  if (!readFailed && readbackOutOfRange()) {
+  const bool outside = !readFailed && readbackOutOfRange();
+  if (!readFailed && sample_.hasAppliedOffsets && allFinite(sample_.appliedOffsetMm)) {
+    trackReadback(outside, report);
+  }
+  if (outside) {
     d.fault = FaultCode::ReadbackOutOfRange;
     d.readbackOutside = true;
   } else if (stopRequested_) {
@@ -524,7 +543,7 @@ bool CompensationLoop::reconnect(time_point now, CycleReport& report) noexcept {
     ++counters_.readErrors;
   }
   const bool wasSynced = synced_;
-  if (!synced_ && (readError || !synchronise(readAt))) {
+  if (!synced_ && (readError || !synchronise(readAt, report))) {
     if (stopRequested_) {
       finish(report);
       return false;

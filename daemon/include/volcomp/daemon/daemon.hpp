@@ -77,7 +77,7 @@ class Daemon {
   bool cycle();
   void logReport(const loop::CycleReport& report);
   void logEvents(const loop::CycleReport& report);
-  std::string readbackText() const;
+  void logReadback(const loop::CycleReport& report) const;
   void notifyPeriodic(loop::Clock::time_point now);
   void finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::string error);
   void checkReloadTimeout();

@@ -9,7 +9,9 @@ static_assert(sizeof(AxisLimits) == kLimits.size() * sizeof(double),
 
 namespace {
 
-double& field(AxisLimits& axis, Limit limit) noexcept {
+// The field of one limit, const or not as the axis is.
+template <typename Axis>
+auto& limitField(Axis& axis, Limit limit) noexcept {
   switch (limit) {
     case Limit::MaxOffset:
       return axis.maxOffsetMm;
@@ -24,8 +26,7 @@ double& field(AxisLimits& axis, Limit limit) noexcept {
 }  // namespace
 
 double limitValue(const AxisLimits& axis, Limit limit) noexcept {
-  AxisLimits copy = axis;
-  return field(copy, limit);
+  return limitField(axis, limit);
 }
 
 LimitChange compareLimit(Limit limit, double running, double requested) noexcept {
@@ -43,7 +44,7 @@ LimiterSettings stricterLimits(const LimiterSettings& running,
   for (std::size_t k = 0; k < out.axes.size(); ++k) {
     for (const Limit limit : kLimits) {
       const double wanted = limitValue(requested.axes[k], limit);
-      double& value = field(out.axes[k], limit);
+      double& value = limitField(out.axes[k], limit);
       if (compareLimit(limit, value, wanted) == LimitChange::Tightened) value = wanted;
     }
   }

@@ -47,6 +47,20 @@ TEST(ReloadLimits, ANumberThatIsNoneIsNeverTaken) {
 
 class ReloadLimitsLoop : public LoopTest {
  protected:
+  /// Settles on the model's offsets, then records every write from there in `writes` and gives
+  /// the loop `limiter` in new settings. Returns the last write before them.
+  OffsetCommand settleThenReload(const LimiterSettings& limiter) {
+    make();
+    runUntilSettled();
+    const OffsetCommand before = port.last;
+    writes.reserve(1000);
+    port.history = &writes;
+    LoopSettings next = settings;
+    next.limiter = limiter;
+    loop->setSettings(next);
+    return before;
+  }
+
   /// Every write from `from` on moves by at most maxStepMm and stays within maxOffsetMm.
   static void expectWithin(const std::vector<OffsetCommand>& writes, const OffsetCommand& from,
                            double maxOffsetMm, double maxStepMm) {
@@ -60,21 +74,15 @@ class ReloadLimitsLoop : public LoopTest {
       previous = writes[i];
     }
   }
+
+  std::vector<OffsetCommand> writes;
 };
 
 // A reload that widens 0.1 mm, 0.5 mm/s to 2 mm, 1000 mm/s with a model asking for
 // 0.89 mm. The old limits hold every write: 0.005 mm per cycle up to the 0.1 mm band.
 TEST_F(ReloadLimitsLoop, WiderLimitsAreNotTakenAndTheOldOnesHoldEveryWrite) {
   settings.limiter = LimiterSettings::uniform(0.1, 0.5);
-  make();
-  runUntilSettled();
-  const OffsetCommand before = port.last;
-  std::vector<OffsetCommand> writes;
-  writes.reserve(200);
-  port.history = &writes;
-  LoopSettings wider = settings;
-  wider.limiter = LimiterSettings::uniform(2.0, 1000.0);
-  loop->setSettings(wider);
+  const OffsetCommand before = settleThenReload(LimiterSettings::uniform(2.0, 1000.0));
   loop->setModel(std::make_shared<FakeModel>(std::array<double, 3>{0.89, -0.5, 0.03}));
   EXPECT_EQ(loop->settings().limiter, settings.limiter);
   for (int i = 0; i < 100; ++i) cycle();
@@ -89,17 +97,9 @@ TEST_F(ReloadLimitsLoop, WiderLimitsAreNotTakenAndTheOldOnesHoldEveryWrite) {
 // the offset comes down at 0.005 mm per cycle (40 cycles), without a fault and without a jump.
 TEST_F(ReloadLimitsLoop, ABandNarrowedBelowTheAppliedOffsetIsReachedAtTheStricterRate) {
   model->setOffset({0.0, 0.0, 0.3});
-  make();
-  runUntilSettled();
-  ASSERT_DOUBLE_EQ(port.last.offsetMm[2], 0.3);
-  const OffsetCommand before = port.last;
-  std::vector<OffsetCommand> writes;
-  writes.reserve(200);
-  port.history = &writes;
-  LoopSettings narrow = settings;
-  narrow.limiter = LimiterSettings::uniform(0.1, 0.5);
-  loop->setSettings(narrow);
-  EXPECT_EQ(loop->settings().limiter, narrow.limiter);
+  const OffsetCommand before = settleThenReload(LimiterSettings::uniform(0.1, 0.5));
+  ASSERT_DOUBLE_EQ(before.offsetMm[2], 0.3);
+  EXPECT_EQ(loop->settings().limiter, LimiterSettings::uniform(0.1, 0.5));
   int cycles = 0;
   while (port.last.offsetMm[2] > 0.1 && cycles < 1000) {
     const CycleReport r = cycle();
@@ -118,15 +118,7 @@ TEST_F(ReloadLimitsLoop, ABandNarrowedBelowTheAppliedOffsetIsReachedAtTheStricte
 // (0.01 mm per cycle), not at the file's 1000 mm/s.
 TEST_F(ReloadLimitsLoop, ANarrowerBandWithAWiderRateSlewsAtTheRunningRate) {
   model->setOffset({0.0, 0.0, 0.3});
-  make();
-  runUntilSettled();
-  const OffsetCommand before = port.last;
-  std::vector<OffsetCommand> writes;
-  writes.reserve(100);
-  port.history = &writes;
-  LoopSettings changed = settings;
-  changed.limiter = LimiterSettings::uniform(0.1, 1000.0);
-  loop->setSettings(changed);
+  const OffsetCommand before = settleThenReload(LimiterSettings::uniform(0.1, 1000.0));
   EXPECT_EQ(loop->settings().limiter, LimiterSettings::uniform(0.1, 1.0));
   for (int i = 0; i < 30; ++i) cycle();
   port.history = nullptr;

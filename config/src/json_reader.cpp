@@ -1,5 +1,6 @@
 #include "volcomp/config/json_reader.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace volcomp::config {
@@ -12,6 +13,60 @@ std::string joinChoices(const std::vector<std::string>& choices) {
     out += c;
   }
   return out;
+}
+
+// Levenshtein distance: the edits (insert, delete, replace a byte) that turn `a` into `b`.
+std::size_t keyEdits(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// The allowed key a typo most likely meant: the fewest edits, at most a third of the key's
+// length (and at least 2); empty when none is that close.
+std::string closestKey(std::string_view unknown, const std::vector<std::string>& allowed) {
+  std::string best;
+  std::size_t bestEdits = std::max<std::size_t>(2, unknown.size() / 3) + 1;
+  for (const std::string& a : allowed) {
+    const std::size_t edits = keyEdits(unknown, a);
+    if (edits < bestEdits) {
+      bestEdits = edits;
+      best = a;
+    }
+  }
+  return best;
+}
+
+// "unknown key; expected one of: a, b" for a short list; for a long one the closest key and where
+// the list is, or its first keys and how many there are: one line, whatever the list.
+std::string unknownKeyMessage(std::string_view unknown, const std::vector<std::string>& allowed,
+                              std::string_view keysListedIn) {
+  const std::string all = joinChoices(allowed);
+  if (all.size() <= kListedKeysBytes) return "unknown key; expected one of: " + all;
+  std::string message = "unknown key";
+  if (const std::string closest = closestKey(unknown, allowed); !closest.empty()) {
+    message += "; did you mean \"" + closest + "\"?";
+  }
+  if (!keysListedIn.empty()) {
+    return message + " (the " + std::to_string(allowed.size()) +
+           " keys allowed here: " + std::string(keysListedIn) + ")";
+  }
+  std::string first;
+  for (const std::string& a : allowed) {
+    if (first.size() + a.size() + 2 > kListedKeysBytes / 2) break;
+    first += a + ", ";
+  }
+  return message + (message.back() == '?' ? " Expected" : "; expected") + " one of: " + first +
+         "... (" + std::to_string(allowed.size()) + " keys)";
 }
 
 std::string formatNumber(double v) {
@@ -68,20 +123,22 @@ void JsonReader::expectObject() const {
   if (!value_->is_object()) failExpected("an object");
 }
 
-void JsonReader::allowOnly(std::initializer_list<std::string_view> allowed) const {
+void JsonReader::allowOnly(std::initializer_list<std::string_view> allowed,
+                           std::string_view keysListedIn) const {
   std::vector<std::string> v;
   for (std::string_view a : allowed) v.emplace_back(a);
-  allowOnly(v);
+  allowOnly(v, keysListedIn);
 }
 
-void JsonReader::allowOnly(const std::vector<std::string>& allowed) const {
+void JsonReader::allowOnly(const std::vector<std::string>& allowed,
+                           std::string_view keysListedIn) const {
   expectObject();
   for (const auto& item : value_->items()) {
     bool known = false;
     for (const std::string& a : allowed) known = known || item.key() == a;
     if (!known) {
       throw ConfigError(file_, childPath(item.key()),
-                        "unknown key; expected one of: " + joinChoices(allowed));
+                        unknownKeyMessage(item.key(), allowed, keysListedIn));
     }
   }
 }

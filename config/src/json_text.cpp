@@ -141,13 +141,30 @@ std::string withoutPrefix(std::string message) {
   return message;
 }
 
+// The library quotes what it read of the failing token ("last read: '...'"), which may be a whole
+// string value of any length: only its end, nearest the error, is kept. The cut is at a character
+// boundary (never inside a UTF-8 sequence).
+std::string shortLastRead(std::string message) {
+  constexpr std::size_t kKeptBytes = 40;
+  const std::string marker = "; last read: '";
+  const auto open = message.find(marker);
+  const auto close = message.rfind('\'');
+  if (open == std::string::npos || close == std::string::npos) return message;
+  const std::size_t from = open + marker.size();
+  if (close <= from || close - from <= kKeptBytes) return message;
+  std::size_t cut = close - kKeptBytes;
+  while (cut < close && (static_cast<unsigned char>(message[cut]) & 0xC0) == 0x80) ++cut;
+  message.replace(from, cut - from, "...");
+  return message;
+}
+
 }  // namespace
 
 nlohmann::json parseJsonText(std::string_view text, const std::string& file) {
   try {
     return Json::parse(text, DuplicateKeyCheck(file));
   } catch (const Json::parse_error& e) {
-    throw ConfigError(file, "", "invalid JSON: " + withoutPrefix(e.what()));
+    throw ConfigError(file, "", "invalid JSON: " + shortLastRead(withoutPrefix(e.what())));
   } catch (const Json::out_of_range& e) {
     // 406: a number beyond the range of a double, reported without a position; the message
     // quotes the number, which locates it.

@@ -144,11 +144,6 @@ std::string unitHint(const ModelDocument& doc, bool translation, double peak, do
   return hint;
 }
 
-std::string overrideHint() {
-  return " If the machine really is this far out, raise the limit in the file: \"plausibility\": "
-         "{\"max_length_mm\": L, \"max_angle_rad\": A}.";
-}
-
 }  // namespace
 
 ModelAssessment assessModel(const model::MachineModel& model) {
@@ -172,7 +167,8 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
                       "large)");
   }
   const std::string limitText =
-      limits.stated ? " (the file's plausibility limit)" : " (the default plausibility limit)";
+      limits.stated ? " (the file's \"plausibility\" limit)"
+                    : " (the default plausibility limit: \"plausibility\" in the file raises it)";
   for (int i = 0; i < 18; ++i) {
     const bool translation = i % 6 < 3;
     const double limit = translation ? limits.maxLengthMm : limits.maxAngleRad;
@@ -187,8 +183,7 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
             (translation ? micrometres(peak) : angle(peak, AngleDisplay::Microradian)) + ") at " +
             kAxes[i / 6] + " = " + significant(a.motionPeakAtMm[i]) + " mm, beyond " +
             (translation ? micrometres(limit) : angle(limit, AngleDisplay::Microradian)) +
-            limitText + "." + unitHint(doc, translation, peak / factor, limit / factor) +
-            overrideHint());
+            limitText + "." + unitHint(doc, translation, peak / factor, limit / factor));
   }
   for (int i = 0; i < 9; ++i) {
     if (a.locationPeakRad[i] <= limits.maxAngleRad) continue;
@@ -197,8 +192,7 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
                           angle(a.locationPeakRad[i], AngleDisplay::Microradian) + ", beyond " +
                           angle(limits.maxAngleRad, AngleDisplay::Microradian) + limitText + "." +
                           unitHint(doc, false, a.locationPeakRad[i] / doc.units.angleToRad(),
-                                   limits.maxAngleRad / doc.units.angleToRad()) +
-                          overrideHint());
+                                   limits.maxAngleRad / doc.units.angleToRad()));
   }
   for (std::size_t g = 0; g < a.gridPeakMm.size(); ++g) {
     if (a.gridPeakMm[g] <= limits.maxLengthMm) continue;
@@ -207,8 +201,7 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
                           micrometres(a.gridPeakMm[g]) + ", beyond " +
                           micrometres(limits.maxLengthMm) + limitText + "." +
                           unitHint(doc, true, a.gridPeakMm[g] / doc.units.lengthToMm(),
-                                   limits.maxLengthMm / doc.units.lengthToMm()) +
-                          overrideHint());
+                                   limits.maxLengthMm / doc.units.lengthToMm()));
   }
   if (a.nonFiniteAtMm) {
     throw ConfigError(doc.file, "",
@@ -220,9 +213,8 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
                       "implausible for a machine tool: the volumetric error reaches " +
                           micrometres(a.peakErrorMm) + " at " + pointText(a.peakErrorAtMm) +
                           ", beyond " + micrometres(limits.maxLengthMm) + limitText +
-                          " (every component alone is within it: check the angles and the "
-                          "tool length, which multiply them)." +
-                          overrideHint());
+                          "; every component alone is within it: check the angles and the "
+                          "tool length, which multiply them.");
   }
   if (a.notConvergedAtMm) {
     throw ConfigError(doc.file, "",
@@ -239,8 +231,8 @@ void requirePlausible(const ModelDocument& doc, const ModelAssessment& a,
         std::string("the model asks for an offset of ") + micrometres(a.peakOffsetMm[k]) + " on " +
             kAxes[k] + " at " + pointText(a.peakOffsetAtMm[k]) + ", beyond " +
             micrometres(bound->maxOffsetMm[k]) + " (" + bound->source +
-            "): the limiter would clamp the correction there and miscompensate the machine. "
-            "Check the model's values and units, or raise max_offset_mm if the machine needs it");
+            "): the limiter would clamp it there and miscompensate. Check the model's values and "
+            "units, or raise max_offset_mm if the machine needs it");
   }
 }
 

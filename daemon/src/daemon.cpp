@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/daemon/limit_changes.hpp"
 
 namespace volcomp::daemon {
 
@@ -155,12 +156,18 @@ void Daemon::finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::stri
         next.plcZeroAfterMs != config_.plcZeroAfterMs) {
       spdlog::warn("offset_readback/plc_zero_after_ms changed: take effect on restart");
     }
+    const LimitChangeLines limits =
+        describeLimitChanges(loop_.settings().limiter, next.limiter, next.file);
     loop_.setSettings(loopSettingsFrom(next));
     loop_.setModel(loaded->model);
     spdlog::set_level(levelFromName(next.logLevel));
     spdlog::info("reloaded: model '{}' from {}", loaded->model->name(), next.modelPath);
+    for (const std::string& line : limits.tightened) spdlog::info("{}", line);
+    for (const std::string& line : limits.widened) spdlog::warn("{}", line);
     for (const std::string& warning : loaded->warnings) spdlog::warn("{}", warning);
-    // Keep what only a restart changes, so that later messages compare against what runs.
+    // Keep what only a restart changes, so that later messages compare against what runs: the
+    // limits the loop took (a widened one stays at its running value until a restart).
+    next.limiter = loop_.settings().limiter;
     next.cyclePeriodMs = config_.cyclePeriodMs;
     next.transport = config_.transport;
     next.offsetReadback = config_.offsetReadback;
@@ -212,8 +219,10 @@ bool Daemon::cycle() {
 }
 
 // Events of a cycle that are not state changes, each logged once when it starts (never per
-// cycle): the saturation warning, an acknowledged latch, the first write withheld in a row.
+// cycle): a read-back outside the band and its return, the saturation warning, an acknowledged
+// latch, the first write withheld in a row.
 void Daemon::logEvents(const CycleReport& report) {
+  logReadback(report);
   if (report.saturationAxis >= 0) {
     const auto k = static_cast<std::size_t>(report.saturationAxis);
     spdlog::warn(
@@ -243,22 +252,35 @@ void Daemon::logEvents(const CycleReport& report) {
   lastWithheld_ = report.withheld;
 }
 
-std::string Daemon::readbackText() const {
-  const auto& s = loop_.lastSample();
-  return fmt::format("applied offsets read back {:+.4f} {:+.4f} {:+.4f} mm, outside +-max_offset",
-                     s.appliedOffsetMm[0], s.appliedOffsetMm[1], s.appliedOffsetMm[2]);
+// The values that caused the fault, when they came, and the return into the band: once each,
+// however often the fault itself is logged again (a latched fault interrupted by failed
+// transactions, a reconnect), and never with the values of a later cycle.
+void Daemon::logReadback(const CycleReport& report) const {
+  if (report.readbackLeftBand) {
+    const auto& o = report.readbackOutsideMm;
+    const auto& limits = loop_.settings().limiter.axes;
+    spdlog::warn(
+        "applied offsets read back {:+.4f} {:+.4f} {:+.4f} mm, outside +-max_offset_mm ({:g} {:g} "
+        "{:g} mm): nothing is written while they are (the controller's heartbeat watchdog removes "
+        "them)",
+        o[0], o[1], o[2], limits[0].maxOffsetMm, limits[1].maxOffsetMm, limits[2].maxOffsetMm);
+  }
+  if (report.readbackBackInBand) {
+    const auto& o = loop_.lastSample().appliedOffsetMm;
+    spdlog::info(
+        "applied offsets read back inside +-max_offset_mm again ({:+.4f} {:+.4f} {:+.4f} "
+        "mm): writing resumes from them{}",
+        o[0], o[1], o[2],
+        loop_.latchedFault() != FaultCode::None ? ", in fault until the controller acknowledges it"
+                                                : "");
+  }
 }
 
 void Daemon::logReport(const CycleReport& report) {
   lastLoggedFault_ = report.fault;
   const std::string_view from = loop::stateName(report.previous);
   const std::string_view to = loop::stateName(report.state);
-  std::string error = report.error ? report.error.message() : std::string();
-  if (report.fault == FaultCode::ReadbackOutOfRange) {
-    error = readbackText() +
-            "; nothing is written while it is (the controller's heartbeat "
-            "watchdog removes them)";
-  }
+  const std::string error = report.error ? report.error.message() : std::string();
   const char* latched = loop_.latchedFault() != FaultCode::None
                             ? " (latched: stays until the controller acknowledges it)"
                             : "";
@@ -273,7 +295,7 @@ void Daemon::logReport(const CycleReport& report) {
       break;
     case LoopState::Starting:
       if (report.fault == FaultCode::ReadbackOutOfRange) {
-        spdlog::warn("starting: {} ({}); waiting for offsets inside the band", readbackText(),
+        spdlog::warn("starting: {}: waiting for applied offsets inside +-max_offset_mm",
                      loop::faultName(report.fault));
       } else if (report.fault != FaultCode::None) {
         spdlog::warn("starting: applied offsets read back are invalid ({})",

@@ -28,6 +28,7 @@
 #include "program.hpp"
 #include "transports.hpp"
 #include "volcomp/config/config_error.hpp"
+#include "volcomp/config/daemon_config.hpp"
 #include "volcomp/daemon/daemon.hpp"
 #include "volcomp/daemon/notifier.hpp"
 #include "volcomp/daemon/waitable_clock.hpp"
@@ -173,10 +174,11 @@ int main(int argc, char** argv) {
   app.add_option("--hold", probeOptions.holdS, "with --test-offset: seconds to hold the offset")
       ->check(CLI::Range(0.0, 600.0));
   app.add_flag("-v,--verbose", verbose, "debug logging (overrides log_level)");
-  app.footer(
-      "Exit status: 0 clean stop, good --check-config or --probe; 1 runtime failure (or a "
-      "--test-offset whose read-back disagreed); 2 bad arguments or a bad configuration/model "
-      "file. Commissioning: docs/commissioning.md.");
+  app.footer(std::string("Exit status: 0 clean stop, good --check-config or --probe; 1 runtime "
+                         "failure (or a --test-offset whose read-back disagreed); 2 bad arguments "
+                         "or a bad configuration/model file. The configuration's keys: ") +
+             volcomp::config::kDaemonConfigKeysListedIn +
+             ". Commissioning: docs/commissioning.md.");
   try {
     app.parse(argc, argv);
     if (!testOffset.empty())

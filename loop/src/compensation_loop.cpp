@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include "volcomp/loop/reload_limits.hpp"
+
 namespace volcomp::loop {
 namespace {
 
@@ -63,14 +65,19 @@ void CompensationLoop::setModel(std::shared_ptr<CompensationModel> model) noexce
   reloadedUntil_ = clock_.now() + settings_.noticeHold;
 }
 
+// A wider limit is not taken while compensating: what the controller was commissioned against
+// changes only through a restart. A narrower one is taken at once; an offset now outside the
+// band returns into it at the (stricter) rate, since the limiter never jumps into the band.
 void CompensationLoop::setSettings(const LoopSettings& settings) noexcept {
   const auto period = settings_.period;
   const bool readback = settings_.offsetReadback;
   const auto plcZeroAfter = settings_.plcZeroAfter;
+  const LimiterSettings limiter = stricterLimits(settings_.limiter, settings.limiter);
   settings_ = settings;
   settings_.period = period;
   settings_.offsetReadback = readback;
   settings_.plcZeroAfter = plcZeroAfter;
+  settings_.limiter = limiter;
   tracker_.setHysteresis(settings_.directionHysteresisMm);
   if (!settings_.faultLatch) latch_.release();
 }
@@ -114,7 +121,20 @@ void CompensationLoop::adopt(const std::array<double, 3>& appliedMm) noexcept {
   envelope_.clear();
 }
 
-bool CompensationLoop::synchronise(time_point now) noexcept {
+// Where a read-back outside the band starts and where it ends, each reported once: the caller
+// logs the values that caused the fault and the recovery, not every cycle in between.
+void CompensationLoop::trackReadback(bool outside, CycleReport& report) noexcept {
+  if (outside == readbackOutside_) return;
+  readbackOutside_ = outside;
+  if (outside) {
+    report.readbackLeftBand = true;
+    report.readbackOutsideMm = sample_.appliedOffsetMm;
+  } else {
+    report.readbackBackInBand = true;
+  }
+}
+
+bool CompensationLoop::synchronise(time_point now, CycleReport& report) noexcept {
   std::array<double, 3> applied{};
   if (settings_.offsetReadback) {
     if (!sample_.hasAppliedOffsets) return false;
@@ -126,8 +146,10 @@ bool CompensationLoop::synchronise(time_point now) noexcept {
     // holding more than this installation allows. The controller's watchdog removes them.
     if (!withinBand(settings_.limiter, sample_.appliedOffsetMm, settings_.readbackResolutionMm)) {
       fault_ = FaultCode::ReadbackOutOfRange;
+      trackReadback(true, report);
       return false;
     }
+    trackReadback(false, report);
     applied = sample_.appliedOffsetMm;
   } else if (now - lastSentTime_ < settings_.plcZeroAfter) {
     return false;
@@ -320,7 +342,11 @@ void CompensationLoop::applyLatch(bool readFailed, Decision& d, CycleReport& rep
 CompensationLoop::Decision CompensationLoop::decide(time_point now, bool readFailed,
                                                     CycleReport& report) noexcept {
   Decision d;
-  if (!readFailed && readbackOutOfRange()) {
+  const bool outside = !readFailed && readbackOutOfRange();
+  if (!readFailed && sample_.hasAppliedOffsets && allFinite(sample_.appliedOffsetMm)) {
+    trackReadback(outside, report);
+  }
+  if (outside) {
     d.fault = FaultCode::ReadbackOutOfRange;
     d.readbackOutside = true;
   } else if (stopRequested_) {
@@ -517,7 +543,7 @@ bool CompensationLoop::reconnect(time_point now, CycleReport& report) noexcept {
     ++counters_.readErrors;
   }
   const bool wasSynced = synced_;
-  if (!synced_ && (readError || !synchronise(readAt))) {
+  if (!synced_ && (readError || !synchronise(readAt, report))) {
     if (stopRequested_) {
       finish(report);
       return false;

@@ -56,6 +56,27 @@ TEST(CliErrors, BadFiles) {
                    "components.EXX.positions[2]");
 }
 
+// Bad files whose refusal could run long (a long token in invalid JSON, an implausible value
+// with its hints) are still one line naming the file, under 300 characters.
+TEST(CliErrors, LongRefusalsAreOneShortLineNamingTheFile) {
+  TempDir dir;
+  const std::string longToken =
+      dir.write("long.json", "{\"format\": \"volcomp-model/1\", \"name\": \"" +
+                                 std::string(4000, 'n') + "\x01\"}");
+  expectUsageError(runCli(dir, "eval " + quoted(longToken) + " --at 1,2,3"),
+                   longToken + ": invalid JSON: parse error at line 1, column ");
+  const std::string typedAsMm =
+      dir.write("mm.json", R"({"format": "volcomp-model/1", "topology": "XYFZ",
+        "travel": {"X": [0, 850], "Y": [0, 500], "Z": [-500, 0]},
+        "error_units": {"length": "mm", "angle": "mrad"},
+        "components": {"EXX": {"positions": [0, 850], "values": [0, 15.6]}}})");
+  expectUsageError(runCli(dir, "check " + quoted(typedAsMm)), typedAsMm + ": components.EXX");
+  for (const std::string& file : {longToken, typedAsMm}) {
+    const CliRun run = runCli(dir, "check " + quoted(file));
+    EXPECT_LE(run.err.size(), 300u) << run.err;
+  }
+}
+
 TEST(CliErrors, HelpAndVersion) {
   TempDir dir;
   const CliRun help = runCli(dir, "--help");

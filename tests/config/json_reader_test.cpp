@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "temp_files.hpp"
 
@@ -27,6 +29,21 @@ TEST(JsonText, SyntaxErrorNamesFileLineAndColumn) {
   EXPECT_EQ(e.file(), "f.json");
   EXPECT_NE(std::string(e.what()).find("f.json: invalid JSON"), std::string::npos) << e.what();
   EXPECT_NE(std::string(e.what()).find("line 3, column"), std::string::npos) << e.what();
+}
+
+// The parser quotes what it read of the failing token, which may be a whole string of any
+// length: the message keeps its end only, and stays one line under 300 characters.
+TEST(JsonText, ALongTokenInASyntaxErrorIsCutToItsEnd) {
+  const std::string text = "{\"log_level\": \"" + std::string(5000, 'x') + "\x01\"}";
+  const ConfigError e = errorOf([&] { parseJsonText(text, "d.json"); });
+  const std::string what = e.what();
+  EXPECT_EQ(what.rfind("d.json: invalid JSON: parse error at line 1, column 5016: ", 0), 0u)
+      << what;
+  // The end of the token, where the parser stopped (the control character), and no more.
+  EXPECT_NE(what.find("last read: '...xxxxxxxx"), std::string::npos) << what;
+  EXPECT_EQ(what.find(std::string(100, 'x')), std::string::npos) << what;
+  EXPECT_EQ(what.substr(what.size() - 9), "<U+0001>'") << what;
+  EXPECT_LE(what.size(), 300u) << what;
 }
 
 TEST(JsonText, NonStandardNanLiteralIsASyntaxError) {
@@ -83,6 +100,36 @@ TEST(JsonReader, UnknownKeyListsTheAllowedOnes) {
   const ConfigError e = errorOf([&] { JsonReader(j, "d.json").allowOnly({"port", "host"}); });
   EXPECT_EQ(e.keyPath(), "prot");
   EXPECT_STREQ(e.what(), "d.json: prot: unknown key; expected one of: port, host");
+}
+
+// A long list of keys is not written out: the line names the closest key and where the list is,
+// or, without such a place, the first keys and how many there are; under 300 characters either way.
+TEST(JsonReader, UnknownKeyAmongManyNamesTheClosestAndWhereTheyAreListed) {
+  std::vector<std::string> allowed;
+  for (int i = 0; i < 30; ++i) allowed.push_back("setting_number_" + std::to_string(i) + "_ms");
+  const auto j = nlohmann::json::parse(R"({"setting_nuber_7_ms": 1, "colour": 2})");
+  const JsonReader r(j, "d.json");
+  const ConfigError typo = errorOf([&] { r.allowOnly(allowed, "docs/d.md, Keys"); });
+  EXPECT_EQ(typo.keyPath(), "colour");  // the first unknown key in key order
+  EXPECT_STREQ(typo.what(),
+               "d.json: colour: unknown key (the 30 keys allowed here: docs/d.md, Keys)");
+  const auto k = nlohmann::json::parse(R"({"setting_nuber_7_ms": 1})");
+  const ConfigError close =
+      errorOf([&] { JsonReader(k, "d.json").allowOnly(allowed, "docs/d.md"); });
+  EXPECT_STREQ(
+      close.what(),
+      "d.json: setting_nuber_7_ms: unknown key; did you mean \"setting_number_7_ms\"? (the "
+      "30 keys allowed here: docs/d.md)");
+  const ConfigError unlisted = errorOf([&] { JsonReader(k, "d.json").allowOnly(allowed); });
+  const std::string what = unlisted.what();
+  EXPECT_EQ(
+      what.rfind("d.json: setting_nuber_7_ms: unknown key; did you mean \"setting_number_7_ms\"? "
+                 "Expected one of: setting_number_0_ms, ",
+                 0),
+      0u)
+      << what;
+  EXPECT_NE(what.find(", ... (30 keys)"), std::string::npos) << what;
+  EXPECT_LE(what.size(), 300u) << what;
 }
 
 TEST(JsonReader, MissingRequiredKey) {

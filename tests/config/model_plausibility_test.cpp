@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "volcomp/config/config_error.hpp"
 #include "volcomp/config/daemon_config.hpp"
@@ -106,6 +108,42 @@ TEST(ModelPlausibility, RefusesAVolumetricErrorBeyondTheLimitFromAngleTimesArm) 
     "error_units": {"length": "um", "angle": "mrad"}, "components": {"EBX": 5}})"));
   expectContains(message, "the volumetric error reaches");
   expectContains(message, "tool length");
+}
+
+// Every refusal is one line that names the file and stays under 300 characters, even with an
+// installed path and the longest hints (a unit typed wrongly, the override, the limiter's file).
+TEST(ModelPlausibility, EveryRefusalIsOneShortLineNamingTheFile) {
+  const std::string file = "/etc/volcomp/vmc-850.json";
+  const auto refusalOf = [&](const std::string& text, const std::optional<OffsetBound>& bound) {
+    return refusal(parseModel(nlohmann::json::parse(text), file), bound);
+  };
+  OffsetBound bound;
+  bound.maxOffsetMm = {0.01, 0.01, 0.01};
+  bound.source = "limiter.max_offset_mm of /etc/volcomp/volcompd.json";
+  const std::vector<std::string> refusals = {
+      refusalOf(kLaserTypedAsMm, std::nullopt),
+      refusalOf(kLaserInUm, bound),
+      refusalOf(R"({"format": "volcomp-model/1", "topology": "FXYZ",
+        "error_units": {"length": "um", "angle": "mrad"}, "components": {"EBX": 12}})",
+                std::nullopt),
+      refusalOf(R"({"format": "volcomp-model/1", "topology": "FXYZ",
+        "error_units": {"length": "um", "angle": "rad"}, "components": {"EC0Y": 18.5}})",
+                std::nullopt),
+      refusalOf(R"({"format": "volcomp-model/1", "topology": "FXYZ",
+        "travel": {"X": [0, 100], "Y": [0, 100], "Z": [0, 100]}, "tool": [0, 0, 300],
+        "error_units": {"length": "um", "angle": "mrad"}, "components": {"EBX": 5}})",
+                std::nullopt),
+      refusalOf(R"({"format": "volcomp-model/1", "topology": "FXYZ",
+        "error_units": {"length": "mm", "angle": "urad"},
+        "grids": [{"component": "EZ", "over": ["X", "Y"], "axes": {"X": [0, 100], "Y": [0, 100]},
+                   "values": [[0, -13], [-4.7, -46.7]]}]})",
+                std::nullopt),
+  };
+  for (const std::string& message : refusals) {
+    EXPECT_EQ(message.rfind(file + ": ", 0), 0u) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    EXPECT_LE(message.size(), 300u) << message;
+  }
 }
 
 TEST(ModelPlausibility, RefusesAModelThatEvaluatesToInfinity) {

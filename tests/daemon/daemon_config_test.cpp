@@ -59,6 +59,17 @@ void expectError(const json& doc, const std::string& path, const std::string& fr
   }
 }
 
+// The one line a refused file gives, for checks of its length.
+std::string refusalOf(const json& doc) {
+  try {
+    parseDaemonConfig(doc, "/etc/volcomp/volcompd.json");
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "accepted";
+  return {};
+}
+
 TEST(DaemonConfig, MinimalFileGetsTheDefaults) {
   const DaemonConfig c = parseDaemonConfig(minimal(), "/etc/volcomp/daemon.json");
   EXPECT_EQ(c.file, "/etc/volcomp/daemon.json");
@@ -311,6 +322,42 @@ TEST(DaemonConfig, FileErrorsNameTheFile) {
   }
   const std::string good = dir.write("good.json", minimal().dump());
   EXPECT_EQ(loadDaemonConfig(good).modelPath, (dir.path() / "model.json").string());
+}
+
+// An unknown key among the file's twenty is one line: the file, the key, the key it most likely
+// meant and where the keys are listed, not the list itself.
+TEST(DaemonConfig, AnUnknownKeyNamesTheClosestKeyAndWhereTheKeysAreListed) {
+  json doc = minimal();
+  doc["cycle_perod_ms"] = 10;
+  expectError(doc, "cycle_perod_ms", "unknown key; did you mean \"cycle_period_ms\"?");
+  const std::string line = refusalOf(doc);
+  EXPECT_EQ(line.rfind("/etc/volcomp/volcompd.json: cycle_perod_ms: unknown key", 0), 0u) << line;
+  EXPECT_NE(line.find("docs/daemon.md, Configuration reference"), std::string::npos) << line;
+  EXPECT_EQ(line.find("position_semantics"), std::string::npos) << line;
+  EXPECT_LE(line.size(), 300u) << line;
+}
+
+// The longest refusals of the file stay one line under 300 characters: a ramp-out that does not
+// fit the stop timeout, invalid JSON with a long token.
+TEST(DaemonConfig, LongRefusalsAreOneShortLine) {
+  json slow = minimal();
+  slow["limiter"]["max_rate_mm_s"] = 0.01;  // 0.5 mm: a 50 s ramp-out
+  expectError(slow, "limiter", "the ramp-out takes up to 50 s");
+  const std::string ramp = refusalOf(slow);
+  EXPECT_NE(ramp.find("TimeoutStopSec"), std::string::npos) << ramp;
+  EXPECT_LE(ramp.size(), 300u) << ramp;
+
+  volcomp::testing::TempDir dir;
+  const std::string path =
+      dir.write("volcompd.json", "{\"log_level\": \"" + std::string(3000, 'i') + "\t\"}");
+  try {
+    loadDaemonConfig(path);
+    FAIL();
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(path + ": invalid JSON: parse error at line 1, column ", 0), 0u) << what;
+    EXPECT_LE(what.size(), 300u) << what;
+  }
 }
 
 // A calibrated model records the tools it was measured with; the daemon compensates for the

@@ -114,6 +114,29 @@ TEST_F(VolcompdProcess, BadFileExitsWithStatus2NamingTheKeyPath) {
   EXPECT_NE(child.output().find("limiter.max_rate_mm_s"), std::string::npos) << child.output();
 }
 
+// A key misspelt among the twenty of the file: one line naming the file, the key, the key it
+// most likely meant and where the keys are listed; --help says where too.
+TEST_F(VolcompdProcess, AnUnknownKeyIsOneShortLineAndHelpSaysWhereTheKeysAre) {
+  config_["cycle_perod_ms"] = 10;
+  dir_.write("volcompd.json", config_.dump());
+  testutil::Subprocess child = run({"--check-config"});
+  EXPECT_EQ(child.waitExit(20s), 2);
+  const std::string out = child.output();
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  EXPECT_NE(out.find(configPath_ + ": cycle_perod_ms: unknown key; did you mean "
+                                   "\"cycle_period_ms\"? (the 20 keys allowed here: "
+                                   "docs/daemon.md, Configuration reference)"),
+            std::string::npos)
+      << out;
+  EXPECT_LE(out.size(), 300u) << out;
+  testutil::Subprocess help = run({"--help"});
+  EXPECT_EQ(help.waitExit(20s), 0);
+  EXPECT_NE(help.output().find("The configuration's keys: docs/daemon.md, Configuration "
+                               "reference."),
+            std::string::npos)
+      << help.output();
+}
+
 TEST_F(VolcompdProcess, BadArgumentsExitWithStatus2) {
   testutil::Subprocess child = run({"--no-such-option"});
   EXPECT_EQ(child.waitExit(20s), 2);

@@ -20,6 +20,11 @@ namespace {
 
 class HostileConditions : public ProcessTest {
  protected:
+  static std::size_t occurrences(const std::string& text, const std::string& needle) {
+    std::size_t n = 0;
+    for (auto at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1)) ++n;
+    return n;
+  }
   json simWith(double heartbeatTimeoutMs) const {
     json s = simConfig(exampleFile("vmc-xyfz-21.json"), 0);
     s["limits"]["max_offset_mm"] = kMaxOffsetMm;
@@ -76,6 +81,9 @@ TEST_F(HostileConditions, LeftOverOffsetOutsideTheBandIsNeverTakenOver) {
   const double readBackMm = std::stod(m[1].str());
   EXPECT_GT(readBackMm, kMaxOffsetMm) << log;
   EXPECT_LE(readBackMm, 0.15) << log;
+  // Once each: the values that caused the fault and the return into the band.
+  EXPECT_EQ(occurrences(log, ", outside +-max_offset_mm"), 1U) << log;
+  EXPECT_EQ(occurrences(log, "inside +-max_offset_mm again"), 1U) << log;
 }
 
 // While active, the X read-back reports 150 mm for 0.6 s (a garbled reply): fault, nothing
@@ -105,8 +113,13 @@ TEST_F(HostileConditions, GarbledReadBackWhileActiveWritesNothingAndNeverPastThe
     if (rows[i].tS - rows[i - 1].tS > 0.4) gap = i;
   }
   EXPECT_GT(gap, 0U) << "no writes while the read-back was garbled";
-  EXPECT_NE(daemonLog().find("latched fault acknowledged"), std::string::npos) << daemonLog();
+  const std::string log = daemonLog();
+  EXPECT_NE(log.find("latched fault acknowledged"), std::string::npos) << log;
   EXPECT_TRUE(rows.back().status & kActive);
+  // The garbled values once, the return into the band once; no fault line repeats values.
+  EXPECT_EQ(occurrences(log, "applied offsets read back +150.0000"), 1U) << log;
+  EXPECT_EQ(occurrences(log, ", outside +-max_offset_mm"), 1U) << log;
+  EXPECT_EQ(occurrences(log, "inside +-max_offset_mm again"), 1U) << log;
 }
 
 // SIGTERM while the read-back stays garbled: nothing can be written, and the stop ends at its

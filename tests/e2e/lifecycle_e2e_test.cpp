@@ -1,8 +1,8 @@
 // Whole processes: the daemon's life cycle under a service manager (daemon.md sections 3 to 5):
 // reload on SIGHUP (a broken model is rejected and the running one stays, a new one slews in
-// through the limiter), stop on SIGTERM while the machine moves (ramp-out, zero and status 0
-// written, exit 0), and the sd_notify protocol against a NOTIFY_SOCKET bound by the test, with
-// WATCHDOG_USEC and WATCHDOG_PID set as systemd sets them.
+// through the limiter, wider limits wait for a restart), stop on SIGTERM while the machine moves
+// (ramp-out, zero and status 0 written, exit 0), and the sd_notify protocol against a NOTIFY_SOCKET
+// bound by the test, with WATCHDOG_USEC and WATCHDOG_PID set as systemd sets them.
 
 #include <array>
 #include <cmath>
@@ -143,6 +143,45 @@ TEST_F(Lifecycle, SighupWithANewModelSlewsToIt) {
     if (rows[i].status & kLimited) ++limited;
   }
   EXPECT_GE(static_cast<double>(limited), 0.9 * (2.0 * before / (kMaxRate * kPeriodS)) - 1.0);
+}
+
+// A reload that widens the limiter from 0.1 mm, 0.5 mm/s to 2 mm, 1000 mm/s (both accepted by
+// the configuration) together with a model thirty times larger (offsets up to ~0.8 mm): the
+// wider limits are not taken while compensating, a warning per limit says old and new values and
+// to restart, and the simulator, which checks every write against the old limits, counts no
+// violation: the offsets slew at 0.5 mm/s to the 0.1 mm band and stay in it.
+TEST_F(Lifecycle, SighupThatWidensTheLimiterKeepsTheRunningLimits) {
+  modelFile_ = writeJson("model.json", example("vmc-xyfz-21.json"));
+  json sim = simConfig(exampleFile("vmc-xyfz-21.json"), 500);  // limits 0.1 mm, 0.5 mm/s
+  sim["heartbeat_timeout_ms"] = 0;
+  ASSERT_EQ(sim["limits"]["max_offset_mm"], 0.1);
+  ASSERT_EQ(sim["limits"]["max_rate_mm_s"], 0.5);
+  const Listening at = startSim(sim, {"--port", "0"});
+  json d = daemonConfig(at, modelFile_);  // the same limits
+  startDaemon(d, notifyEnv());
+  ASSERT_TRUE(notify_->waitFor("READY=1", 10s)) << daemonLog();
+  ASSERT_TRUE(waitForAppliedOffset(0.003)) << daemonLog();
+  std::ofstream(modelFile_) << scaledModel(example("vmc-xyfz-21.json"), 30.0).dump(2);
+  d["limiter"]["max_offset_mm"] = 2.0;
+  d["limiter"]["max_rate_mm_s"] = 1000.0;
+  writeJson("volcompd.json", d);
+  daemon_->signal(SIGHUP);
+  ASSERT_TRUE(daemon_->waitForStderr("reloaded: model", 10s)) << daemonLog();
+  // The larger model is taken: the offsets reach the old band, and stay in it.
+  ASSERT_TRUE(waitForAppliedOffset(0.1 - kQuantumMm)) << daemonLog();
+  ASSERT_TRUE(waitForMoreWrites(*sim_, 50));
+  const json report = finishSim();
+  stopDaemon();
+  EXPECT_EQ(report["limiter_violations"], 0) << report["first_violation"];
+  const auto rows = record();
+  ASSERT_FALSE(rows.empty()) << daemonLog();
+  expectWritesWithinLimits(rows, 0.1, 0.5, kPeriodS);
+  const std::string log = daemonLog();
+  for (const char* change : {"limiter.max_offset_mm of ", "widens X/Y/Z 0.1 -> 2 mm",
+                             "limiter.max_rate_mm_s of ", "widens X/Y/Z 0.5 -> 1000 mm/s",
+                             "not taken while compensating", "systemctl restart volcompd"}) {
+    EXPECT_NE(log.find(change), std::string::npos) << change << " not in\n" << log;
+  }
 }
 
 // SIGTERM while the machine moves and the offsets are applied: STOPPING=1, a ramp to zero at

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <system_error>
 #include <vector>
 
 #include "loop_fixture.hpp"
@@ -377,6 +378,70 @@ TEST_F(TimingFaults, LatchedReadBackFaultWritesAgainOnceTheReadBackIsInside) {
   r = cycle();
   EXPECT_EQ(r.state, LoopState::Active);
   EXPECT_EQ(port.last.status & status::kLatched, 0);
+}
+
+// The report says once where a read-back outside the band starts (with the values read) and
+// once where it ends, however often the latched fault is interrupted in between (a failed read
+// is a fault of its own for a cycle), so that the caller logs the values that caused the fault
+// rather than those of a later cycle.
+TEST_F(TimingFaults, AReadBackOutsideTheBandIsReportedOnceWithItsValuesAndItsEndOnce) {
+  make();
+  runUntilSettled();
+  port.holdApplied = true;
+  const auto good = port.applied;
+  port.applied = {0.7, -0.02, 0.03};
+  int left = 0, back = 0;
+  CycleReport first = cycle();
+  left += first.readbackLeftBand;
+  EXPECT_TRUE(first.readbackLeftBand);
+  EXPECT_EQ(first.readbackOutsideMm, port.applied);
+  for (int i = 0; i < 10; ++i) {
+    port.readError = i % 3 == 0 ? std::make_error_code(std::errc::timed_out) : std::error_code();
+    port.applied[0] = 0.7 - 0.01 * i;  // the controller's watchdog ramps it out
+    const CycleReport r = cycle();
+    left += r.readbackLeftBand;
+    back += r.readbackBackInBand;
+  }
+  EXPECT_EQ(left, 1);
+  EXPECT_EQ(back, 0);
+  port.readError = {};
+  port.applied = good;
+  port.holdApplied = false;
+  for (int i = 0; i < 10; ++i) {
+    port.readError = i % 3 == 0 ? std::make_error_code(std::errc::timed_out) : std::error_code();
+    const CycleReport r = cycle();
+    left += r.readbackLeftBand;
+    back += r.readbackBackInBand;
+    EXPECT_EQ(r.state, LoopState::Fault);  // latched until acknowledged
+  }
+  EXPECT_EQ(left, 1);
+  EXPECT_EQ(back, 1);
+}
+
+// At start the same: a read-back outside the band reported once, its return into it once (the
+// loop then takes it over).
+TEST_F(TimingFaults, AReadBackOutsideTheBandAtStartIsReportedOnceAndItsEndOnce) {
+  port.holdApplied = true;
+  port.applied = {150.0, 0.0, 0.0};
+  make();
+  int left = 0, back = 0;
+  for (int i = 0; i < 20; ++i) {
+    const CycleReport r = cycle();
+    left += r.readbackLeftBand;
+    back += r.readbackBackInBand;
+    if (r.readbackLeftBand) {
+      EXPECT_EQ(r.readbackOutsideMm[0], 150.0);
+    }
+  }
+  port.applied = {0.2, 0.0, 0.0};
+  port.holdApplied = false;
+  for (int i = 0; i < 5; ++i) {
+    const CycleReport r = cycle();
+    left += r.readbackLeftBand;
+    back += r.readbackBackInBand;
+  }
+  EXPECT_EQ(left, 1);
+  EXPECT_EQ(back, 1);
 }
 
 // A reload that narrows the band below the applied offsets is not a read-back fault: they are

@@ -4,7 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include "../cli/run_cli.hpp"
@@ -99,6 +101,40 @@ TEST(CliIso230, RefusalsAreOneLineWithStatusTwo) {
   EXPECT_EQ(badTopology.status, 2);
   EXPECT_EQ(badTopology.out, "");
   EXPECT_NE(badTopology.err.find("--topology"), std::string::npos) << badTopology.err;
+}
+
+// Every refusal about the --model-out file names it, in one line under 300 characters: no
+// --topology or --merge, runs without an axis column, a directory or an input as the target.
+TEST(CliIso230, ModelOutRefusalsNameTheFile) {
+  TempDir dir;
+  const std::string runs = kExamples + "/iso230-2-x-runs.csv";
+  const std::string model = (dir.path() / "m.json").string();
+  const auto expectRefusal = [&](const std::string& args, const std::string& file,
+                                 const std::string& fragment) {
+    const CliRun run = runCli(dir, "iso230-2 " + args);
+    EXPECT_EQ(run.status, 2) << run.err;
+    EXPECT_EQ(run.errLines(), 1) << run.err;
+    EXPECT_NE(run.err.find("--model-out " + file), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find(fragment), std::string::npos) << run.err;
+    EXPECT_LE(run.err.size(), 300u) << run.err;
+  };
+  expectRefusal(quoted(runs) + " --model-out " + quoted(model), model,
+                "needs exactly one of --topology and --merge");
+  // The example's runs without their axis column.
+  std::istringstream in(readFile(runs));
+  std::string csv;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line[0] != '#') csv += line.substr(line.find(',') + 1) + "\n";
+  }
+  const std::string noAxis = dir.write("no-axis.csv", csv);
+  expectRefusal(quoted(noAxis) + " --model-out " + quoted(model) + " --topology XYFZ", model,
+                noAxis + " has no axis column");
+  const std::string directory = (dir.path() / "out").string();
+  std::filesystem::create_directory(directory);
+  expectRefusal(quoted(runs) + " --model-out " + quoted(directory) + " --topology XYFZ", directory,
+                "is a directory");
+  expectRefusal(quoted(noAxis) + " --axis X --model-out " + quoted(noAxis) + " --topology XYFZ",
+                noAxis, "is the input");
 }
 
 TEST(CliExport, WritesEachFormatAndReportsTheRemainingError) {

@@ -29,6 +29,17 @@ std::vector<std::filesystem::path> inputsOf(const Iso230Options& options) {
   return inputs;
 }
 
+/// Writes one output file of the verb; a refusal names the option as well as the file
+/// ("--model-out m.json: is a directory, not a file").
+void writeOutput(const char* option, const std::string& path, const std::string& contents,
+                 const Iso230Options& options) {
+  try {
+    output::writeOutputFile(path, contents, inputsOf(options));
+  } catch (const output::OutputError& e) {
+    throw UsageError(std::string(option) + " " + e.what());
+  }
+}
+
 /// mm -> um with 4 significant digits, at most 3 decimals (sub-nm digits mean nothing here).
 std::string um(double valueMm) {
   return format::fixedSignificant(valueMm * 1000.0, 4, 3);
@@ -83,7 +94,9 @@ void printTable(const Iso230Result& r, std::ostream& out) {
 
 void writeModelTable(const Iso230Options& options, const Iso230Result& result, std::ostream& out) {
   if (!result.axis) {
-    throw UsageError("--model-out: the CSV has no axis column; name the axis with --axis");
+    throw UsageError("--model-out " + options.modelOutPath + ": " + options.runsPath +
+                     " has no axis column, so the component's axis is not known; name it with "
+                     "--axis");
   }
   const model::Axis axis = *result.axis;
   const int index = model::motionIndex(axis, static_cast<model::MotionKind>(axis));
@@ -108,7 +121,7 @@ void writeModelTable(const Iso230Options& options, const Iso230Result& result, s
   spec.motion[static_cast<std::size_t>(index)] =
       metrology::positioningComponent(result, topology, axis);
   const nlohmann::json document = config::writeModel(spec, units);
-  output::writeOutputFile(options.modelOutPath, document.dump(2) + '\n', inputsOf(options));
+  writeOutput("--model-out", options.modelOutPath, document.dump(2) + '\n', options);
   out << "\nwrote " << model::motionName(index) << " (values from x\xCC\x84\xE2\x86\x91, "
       << "values_negative from x\xCC\x84\xE2\x86\x93, " << result.targets.size()
       << " positions) to " << options.modelOutPath << ": axis " << metrology::axisName(axis)
@@ -156,7 +169,8 @@ void resolveIso230Arguments(Iso230Arguments& arguments) {
   Iso230Options& options = arguments.options;
   const bool topology = !arguments.topology.empty();
   if (!options.modelOutPath.empty() && topology == !options.mergePath.empty()) {
-    throw UsageError("--model-out needs exactly one of --topology and --merge");
+    throw UsageError("--model-out " + options.modelOutPath +
+                     ": needs exactly one of --topology and --merge");
   }
   if (options.modelOutPath.empty() && (topology || !options.mergePath.empty())) {
     throw UsageError("--topology and --merge only go with --model-out");
@@ -187,8 +201,7 @@ int runIso230(const Iso230Options& options, std::ostream& out, std::ostream& err
   }
   printTable(result, out);
   if (!options.jsonPath.empty()) {
-    output::writeOutputFile(options.jsonPath, metrology::toJson(result).dump(2) + '\n',
-                            inputsOf(options));
+    writeOutput("--json", options.jsonPath, metrology::toJson(result).dump(2) + '\n', options);
   }
   if (!options.modelOutPath.empty()) writeModelTable(options, result, out);
   return kExitOk;

@@ -12,6 +12,7 @@
 namespace volcomp::config {
 
 const double kDefaultStopTimeoutS = VOLCOMPD_DEFAULT_STOP_TIMEOUT_S;
+const char* const kDaemonConfigKeysListedIn = "docs/daemon.md, Configuration reference";
 
 namespace {
 
@@ -63,15 +64,14 @@ void checkBounds(const JsonReader& root, const DaemonConfig& c) {
     for (const loop::AxisLimits& a : c.limiter.axes) {
       slowestRateMmS = std::min(slowestRateMmS, a.maxRateMmS);
     }
-    limiter.fail("the ramp-out takes up to " + format::general(rampS) +
-                 " s (max_offset_mm / max_rate_mm_s), and a stop may take 2 x that + 1 s = " +
-                 format::general(stopS) + " s, longer than the service's stop timeout of " +
+    // One line: the stop's bound (2 x ramp-out + 1 s) and TimeoutStopSec are in docs/daemon.md.
+    limiter.fail("the ramp-out takes up to " + format::general(rampS) + " s, a stop up to " +
+                 format::general(stopS) + " s: more than stop_timeout_s " +
                  format::general(c.stopTimeoutS) +
-                 " s (stop_timeout_s, TimeoutStopSec of the unit): systemd would kill the daemon "
-                 "with offsets applied. Raise max_rate_mm_s to at least " +
-                 format::general(2.0 * largestOffsetMm / (c.stopTimeoutS - 1.0)) +
-                 " mm/s, lower max_offset_mm, or raise TimeoutStopSec in a drop-in and "
-                 "stop_timeout_s here");
+                 " s (TimeoutStopSec), systemd would kill the daemon with offsets applied. Raise "
+                 "max_rate_mm_s to >= " +
+                 format::general(2.0 * largestOffsetMm / (c.stopTimeoutS - 1.0), 3) +
+                 " mm/s, lower max_offset_mm, or raise TimeoutStopSec and stop_timeout_s");
   }
 }
 
@@ -104,7 +104,8 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& document, const std::string
                   "stop_timeout_s",
                   "accept_model_beyond_max_offset",
                   "latency_compensation",
-                  "transport"});
+                  "transport"},
+                 kDaemonConfigKeysListedIn);
   DaemonConfig c;
   c.file = file;
   if (auto v = root.find("cycle_period_ms")) c.cyclePeriodMs = v->number(1.0, 1000.0);

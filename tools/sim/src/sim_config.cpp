@@ -59,10 +59,11 @@ PathSpec parsePath(const JsonReader& r, const std::string& file) {
 
 SimConfig parseSimConfig(const nlohmann::json& document, const std::string& file) {
   const JsonReader root(document, file);
-  root.allowOnly({"model", "position_semantics", "path", "limits", "heartbeat_timeout_ms",
-                  "watchdog_ramp_mm_s", "initial_offset_mm", "settle_ms", "tick_ms",
-                  "can_broadcast_ms", "controller_latency_ms", "position_scan_ms", "transport",
-                  "comment"});
+  root.allowOnly(
+      {"model", "position_semantics", "path", "limits", "heartbeat_timeout_ms",
+       "watchdog_ramp_mm_s", "initial_offset_mm", "settle_ms", "tick_ms", "can_broadcast_ms",
+       "controller_latency_ms", "position_scan_ms", "transport", "comment"},
+      "docs/modbus.md, volcomp-sim");
   SimConfig c;
   c.file = file;
   if (auto m = root.find("model")) c.modelPath = resolve(file, m->string());

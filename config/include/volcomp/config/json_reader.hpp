@@ -46,6 +46,9 @@ nlohmann::json readJsonFile(const std::string& path);
 /// Same for text already in memory; `file` is used in messages only.
 nlohmann::json parseJsonText(std::string_view text, const std::string& file);
 
+/// Longest list of allowed keys (bytes, ", " between keys) an unknown-key message writes out.
+inline constexpr std::size_t kListedKeysBytes = 160;
+
 class JsonReader {
  public:
   /// A view of `value` at `path` ("" for the document root) of `file` (used in messages).
@@ -74,9 +77,14 @@ class JsonReader {
   // Objects ------------------------------------------------------------------------------------
   void expectObject() const;
   /// Expects an object whose keys are all in `allowed`; otherwise fails at the first unknown
-  /// key's path with "unknown key; expected one of: ...".
-  void allowOnly(std::initializer_list<std::string_view> allowed) const;
-  void allowOnly(const std::vector<std::string>& allowed) const;
+  /// key's path with "unknown key; expected one of: a, b, c". A list longer than kListedKeysBytes
+  /// is not written out, so that the message stays one short line: the message names the allowed
+  /// key closest to the unknown one (when one is within a few edits) and where the keys are
+  /// listed, `keysListedIn` (e.g. "docs/daemon.md, Configuration reference"); without it, the
+  /// first keys and how many there are.
+  void allowOnly(std::initializer_list<std::string_view> allowed,
+                 std::string_view keysListedIn = {}) const;
+  void allowOnly(const std::vector<std::string>& allowed, std::string_view keysListedIn = {}) const;
   bool has(std::string_view key) const;
   /// Required member; fails at the member's path with "missing required key" when absent.
   JsonReader at(std::string_view key) const;

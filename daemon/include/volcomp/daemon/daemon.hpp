@@ -53,7 +53,9 @@ class Daemon {
   /// SIGTERM/SIGINT: ramp out, write zero and status inactive, then finish (onFinished).
   void requestStop();
   /// SIGHUP: load and validate config and model off the io_context thread, then take them over
-  /// between cycles; a rejected file keeps everything as it was and sets RELOAD_FAILED.
+  /// between cycles; a rejected file keeps everything as it was and sets RELOAD_FAILED. The
+  /// limiter's limits only tighten: a wider one is logged (old -> new) and not taken, the running
+  /// value stays until a restart; a narrower one is taken and logged (limit_changes.hpp).
   void requestReload();
   /// Runs a cycle now, on the io_context thread (a Modbus master completed a position set with
   /// cycle_trigger "write"); the period timer then runs one only when no such event came for a
@@ -75,7 +77,7 @@ class Daemon {
   bool cycle();
   void logReport(const loop::CycleReport& report);
   void logEvents(const loop::CycleReport& report);
-  std::string readbackText() const;
+  void logReadback(const loop::CycleReport& report) const;
   void notifyPeriodic(loop::Clock::time_point now);
   void finishReload(std::shared_ptr<LoadedConfiguration> loaded, std::string error);
   void checkReloadTimeout();

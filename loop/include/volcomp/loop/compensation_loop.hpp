@@ -96,6 +96,12 @@ struct CycleReport {
   Withheld withheld = Withheld::None;
   /// A latched fault was acknowledged by the controller in this cycle.
   bool acknowledged = false;
+  /// The applied offsets read back went outside +-max_offset in this cycle (at the first read or
+  /// after being inside): the values read, mm. Reported once until the read-back is inside again.
+  bool readbackLeftBand = false;
+  std::array<double, 3> readbackOutsideMm{};
+  /// The read-back is inside the band again, after it was outside (reported once).
+  bool readbackBackInBand = false;
   /// The saturation warning started in this cycle: the axis (0..2, else -1) and the offset the
   /// model asked for on it (mm).
   int saturationAxis = -1;
@@ -152,7 +158,10 @@ class CompensationLoop {
   /// limiter. Sets MODEL_RELOADED for a while and clears RELOAD_FAILED.
   void setModel(std::shared_ptr<CompensationModel> model) noexcept;
   /// Takes over new settings between cycles (limiter, timeouts, margins; the period and the
-  /// read-back mode only change on restart, the caller keeps them).
+  /// read-back mode only change on restart, the caller keeps them). The limiter's limits only
+  /// tighten: per axis and limit the stricter of the running and the new value is taken
+  /// (reload_limits.hpp); a wider one takes a new loop. Offsets outside a narrowed band return
+  /// into it at the rate limit.
   void setSettings(const LoopSettings& settings) noexcept;
   /// A reload was rejected: sets RELOAD_FAILED until the next successful one.
   void noteReloadFailed() noexcept { reloadFailed_ = true; }
@@ -217,7 +226,8 @@ class CompensationLoop {
   bool tryConnect(time_point now, CycleReport& report) noexcept;
   std::error_code readInputs(time_point readAt, time_point requestAt) noexcept;
   bool takeReading(time_point readAt, std::error_code readError, CycleReport& report) noexcept;
-  bool synchronise(time_point now) noexcept;
+  bool synchronise(time_point now, CycleReport& report) noexcept;
+  void trackReadback(bool outside, CycleReport& report) noexcept;
   void followController(time_point now, bool resumed) noexcept;
   void adopt(const std::array<double, 3>& appliedMm) noexcept;
   FaultCode checkInputs(time_point now, std::array<double, 3>& qMm, bool& outOfTravel) noexcept;
@@ -250,6 +260,7 @@ class CompensationLoop {
   bool reloadFailed_ = false;
   bool lastWriteFailed_ = false;
   bool sentAny_ = false;
+  bool readbackOutside_ = false;  ///< the last read-back checked was outside the band
 
   AxisSample sample_{};
   OffsetCommand command_{};

@@ -57,6 +57,8 @@ namespace volcomp::config {
 
 /// TimeoutStopSec of the installed systemd unit.
 extern const double kDefaultStopTimeoutS;
+/// Where the keys of the file are listed (what an unknown-key message and `volcompd --help` name).
+extern const char* const kDaemonConfigKeysListedIn;
 /// Largest max_offset_mm without "allow_max_offset_above_2mm": true.
 inline constexpr double kMaxOffsetWithoutOverrideMm = 2.0;
 

@@ -61,7 +61,9 @@ class ResidualProblem {
 
   /// All rows stacked: observations in order, then prior rows.
   int rowCount() const { return observationCount() * residualsPerObservation() + priorRowCount(); }
-  void residuals(const Eigen::VectorXd& p, Eigen::VectorXd& r) const;
+  /// All residuals, stacked like that. Override when a faster form exists (work shared by the
+  /// observations, such as a reference point).
+  virtual void residuals(const Eigen::VectorXd& p, Eigen::VectorXd& r) const;
   /// Full Jacobian, stacked like residuals(). Override when a faster form exists.
   virtual void jacobian(const Eigen::VectorXd& p, Eigen::MatrixXd& jacobian) const;
 };
@@ -187,7 +189,8 @@ enum class Method {
   /// and the correction iterated with the same factorisation (for models linear in their
   /// parameters up to second-order terms, e.g. the 21-component model).
   Linear,
-  /// Levenberg-Marquardt on the exact model (Ceres), with optional robust loss.
+  /// Levenberg-Marquardt on the exact model: without a robust loss MINPACK's dense trust region
+  /// (Moré's scaling and radius control), with one Ceres (a loss per observation block).
   LevenbergMarquardt,
 };
 
@@ -235,7 +238,7 @@ FitStatistics analyse(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& re
 FitResult solve(const ResidualProblem& problem, const Eigen::VectorXd& start,
                 const SolveOptions& options = {});
 
-/// Levenberg-Marquardt with Ceres (used by solve() for Method::LevenbergMarquardt). Returns the
+/// Levenberg-Marquardt with Ceres (used by solve() when a robust loss is chosen). Returns the
 /// parameters, iterations, convergence and termination text; statistics are filled by solve().
 FitResult solveLevenbergMarquardt(const ResidualProblem& problem, const Eigen::VectorXd& start,
                                   const SolveOptions& options);

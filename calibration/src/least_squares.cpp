@@ -324,6 +324,14 @@ std::vector<Combination> namedCombinations(const ScaledSvd& svd,
     combination.description = describe(combination.terms, names);
     combinations.push_back(std::move(combination));
   }
+  // In the order of their first parameter: which parameter becomes a pivot, and so the order of
+  // the echelon rows, depends on the basis the SVD returns for the null space, which any change
+  // of the point or of the derivatives' rounding rotates.
+  const auto first = [](const Combination& c) {
+    return c.terms.empty() ? c.pivot : c.terms.front().first;
+  };
+  std::stable_sort(combinations.begin(), combinations.end(),
+                   [&](const Combination& a, const Combination& b) { return first(a) < first(b); });
   return combinations;
 }
 

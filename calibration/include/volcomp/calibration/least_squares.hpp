@@ -146,6 +146,7 @@ struct FitStatistics {
   double identifiabilityThreshold = 0.0;
   /// Per parameter: pi_j < identifiabilityThreshold.
   std::vector<bool> identifiable;
+  /// In the order of their first parameter.
   std::vector<Combination> unidentifiable;
   /// D (the column scale), V_N (scaled null-space basis, n x (n - k)) and W = D V_k S_k^-1
   /// (n x k): a prediction with sensitivity row g (dprediction/dp) has the standard deviation

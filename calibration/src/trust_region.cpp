@@ -1,19 +1,20 @@
 // Levenberg-Marquardt without a robust loss (trust_region.hpp). Ceres solved these problems
 // before, with central differences through its generic cost-function interface; for the few
 // parameters and rows of a device or a D-H chain its per-problem set-up and per-iteration
-// bookkeeping cost more than the fit, and its step control took 28 iterations on the planar
-// device where MINPACK's takes a handful. This is MINPACK's step control (scaling, trust radius,
-// acceptance and tests) with the damping found from one eigendecomposition per Jacobian of the
-// n x n normal matrix of the scaled Jacobian, A = Js^T Js: every trial lambda is then a sum over
-// n terms (MINPACK's lmpar rotates sqrt(lambda) D into a QR factor for each; an SVD of Js would
-// do the same as the eigendecomposition at four times its cost for 7 parameters). Squaring the
+// bookkeeping cost more than the fit, and its step control took 20 steps on the benchmark's planar
+// device where MINPACK's needs 3 or 4 Jacobians. This is MINPACK's step control (scaling, trust
+// radius, acceptance and tests) with the damping found from one eigendecomposition per Jacobian of
+// the n x n normal matrix of the scaled Jacobian, A = Js^T Js: every trial lambda is then a sum
+// over n terms (MINPACK's lmpar rotates sqrt(lambda) D into a QR factor for each; an SVD of the
+// QR's triangle would serve as well at more than twice the cost for 7 parameters). Squaring the
 // condition number costs nothing that matters here: the iteration only needs steps that reduce
 // |r|, its fixed point (Js^T r = 0) does not depend on how A is factorised, and the statistics
 // are taken afterwards from the SVD of J itself (least_squares.cpp). Directions the data cannot
 // see (e_i <= rankTolerance^2 e_max, i.e. s_i <= rankTolerance s_1) take no step at all, as in
 // the linear solve: damping alone would let a nonlinear model drift along them. All work arrays
-// are sized once: an iteration allocates nothing beyond what the problem's residuals and
-// Jacobian do.
+// are sized once; an iteration allocates once, inside Eigen's eigensolver (its tridiagonal
+// reduction; callgrind counts one malloc per compute()), besides whatever the problem's residuals
+// and Jacobian do (the planar device's: nothing).
 
 #include "trust_region.hpp"
 

@@ -1,6 +1,12 @@
 // Calibration timings (run pinned: taskset -c 1 bench_calibration).
-// - Hanak, Zirn and Ruoff: the planar 2-DOF device, 7 parameters, 25 points, Levenberg-Marquardt from the
-//   paper's starting values, with covariance and rank analysis. Target <= 1 ms.
+// - Hanak, Zirn and Ruoff: the planar 2-DOF device, 7 parameters, 25 points, Levenberg-Marquardt
+// from the
+//   paper's starting values, with covariance and rank analysis. Target <= 1 ms, and no slower
+//   than its anchor in the same run: Eigen's MINPACK port on the same residuals and Jacobian
+//   with its covariance (planar_case.hpp).
+// - A D-H chain (Bulla Ramos et al.'s Cartesian table), 4 deviations, 100 points,
+// Levenberg-Marquardt
+//   with covariance (dh_case.hpp).
 // - 21 components of an XYFZ machine as 8-node tables (18 x 8 + 3 = 147 parameters), 5000
 //   points (1000 positions x 5 tools), linear identification including covariance, correlation
 //   and the naming of unidentifiable combinations. Target <= 0.1 s on one core.
@@ -11,13 +17,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include <cmath>
-#include <numbers>
-#include <random>
-
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
+#include "dh_case.hpp"
+#include "planar_case.hpp"
 #include "vmc_case.hpp"
 #include "volcomp/calibration/identification.hpp"
 #include "volcomp/calibration/planar2dof.hpp"
@@ -28,47 +32,52 @@ using namespace volcomp;
 using namespace volcomp::calibration;
 using nlohmann::json;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-std::vector<Planar2DofSample> planarData() {
-  const Planar2DofParameters truth{0.30, 0.10,          1.53,    0.13,  0.0,
-                                   0.0,  -0.184 * kDeg, -2.1e-3, 0.7e-3};
-  std::mt19937 generator(3);
-  std::normal_distribution<double> noise(0.0, 1.8e-3);
-  const double c = std::cos(truth[phi]), s = std::sin(truth[phi]);
-  std::vector<Planar2DofSample> samples;
-  for (int row = 0; row < 5; ++row) {
-    for (int column = 0; column < 5; ++column) {
-      const Eigen::Vector2d tcp(-20.0 + 10.0 * column, 180.0 + 10.0 * row);
-      const Eigen::Vector2d readings = planar2DofInverse({}, truth, tcp);
-      Planar2DofSample sample{
-          readings.x(), readings.y(),
-          Eigen::Vector2d(c * tcp.x() + s * tcp.y(), -s * tcp.x() + c * tcp.y())};
-      if (row + column > 0) {
-        const double dy = noise(generator);  // drawn in this order whatever the compiler
-        sample.lgpMm += Eigen::Vector2d(noise(generator), dy);
-      }
-      samples.push_back(sample);
-    }
-  }
-  samples[0].lgpMm -= Eigen::Vector2d(truth[exK], truth[eyK]);
-  return samples;
-}
-
 void BM_PlanarDeviceFit(benchmark::State& state) {
-  const Planar2DofParameters start{0.1, 0.1, 1.0, 0.1, 0.0, 0.0, 0.057 * kDeg, 3e-3, 3e-3};
-  const Planar2DofProblem problem({}, planarData(), 0, kPaperFreeParameters, start);
+  const Planar2DofParameters start = bench::planarStart();
+  const Planar2DofProblem problem({}, bench::planarData(), 0, kPaperFreeParameters, start);
   SolveOptions options;
   options.method = Method::LevenbergMarquardt;
-  int rank = 0;
+  int rank = 0, iterations = 0;
   for (auto _ : state) {
     const FitResult fit = solve(problem, problem.freeVector(start), options);
     rank = fit.statistics.rank;
+    iterations = fit.iterations;
     benchmark::DoNotOptimize(fit.parameters.data());
   }
   state.counters["rank"] = rank;
+  state.counters["iterations"] = iterations;
 }
 BENCHMARK(BM_PlanarDeviceFit)->Unit(benchmark::kMicrosecond);
+
+// The anchor: Eigen's MINPACK port on the same residuals and Jacobian, with its covariance.
+void BM_PlanarDeviceFitAnchorEigenMinpack(benchmark::State& state) {
+  const Planar2DofParameters start = bench::planarStart();
+  const Planar2DofProblem problem({}, bench::planarData(), 0, kPaperFreeParameters, start);
+  int iterations = 0, evaluations = 0;
+  for (auto _ : state) {
+    const bench::AnchorFit fit = bench::anchorFit(problem, problem.freeVector(start));
+    iterations = fit.iterations;
+    evaluations = fit.evaluations;
+    benchmark::DoNotOptimize(fit.standardDeviation.data());
+  }
+  state.counters["iterations"] = iterations;
+  state.counters["evaluations"] = evaluations;
+}
+BENCHMARK(BM_PlanarDeviceFitAnchorEigenMinpack)->Unit(benchmark::kMicrosecond);
+
+void BM_DhChainFit(benchmark::State& state) {
+  const auto& problem = *bench::dhCase().problem;
+  SolveOptions options;
+  options.method = Method::LevenbergMarquardt;
+  int iterations = 0;
+  for (auto _ : state) {
+    const FitResult fit = solve(problem, problem.startVector(), options);
+    iterations = fit.iterations;
+    benchmark::DoNotOptimize(fit.statistics.covariance.data());
+  }
+  state.counters["iterations"] = iterations;
+}
+BENCHMARK(BM_DhChainFit)->Unit(benchmark::kMicrosecond);
 
 void BM_TwentyOneComponentIdentification(benchmark::State& state) {
   const bench::VmcCase& c = bench::vmcCase();

@@ -1,5 +1,6 @@
 // Identification of D-H deviations (see identification.hpp): a nonlinear problem solved with
-// Levenberg-Marquardt; derivatives by central differences (few parameters, cheap chains).
+// Levenberg-Marquardt; derivatives by central differences (few parameters, cheap chains), a
+// parameter at a time over all points.
 
 #include <cmath>
 #include <numbers>
@@ -147,19 +148,32 @@ class DhIdentification final : public IdentificationProblem {
   }
 
   void observationResiduals(const double* p, int i, double* r) const override {
-    const Point& point = points_[static_cast<std::size_t>(i)];
-    const model::DhChain chain(withDeviations(p));
-    const model::DhResult result = chain.evaluate(point.joints.data());
-    const Eigen::Vector3d nominal = result.tNominal.block<3, 1>(0, 3);
-    const double* frame = frameFirst_ >= 0 ? p + frameFirst_ : nullptr;
-    const Eigen::Vector3d position = predictedPositionError(frame, nominal, result.errorMm);
-    for (int t = 0; t < 3; ++t) r[t] = (position[t] - point.measuredMm[t]) * point.sqrtWeight;
-    if (hasAngles_) {
-      const Eigen::Vector3d angle = predictedAngularError(frame, result.angularErrorRad);
-      for (int t = 0; t < 3; ++t) {
-        r[3 + t] =
-            (angle[t] - point.measuredAngleRad[t]) * point.sqrtWeight * options_.angleScaleMm;
-      }
+    pointResiduals(model::DhChain(withDeviations(p)), p, i, r);
+  }
+
+  // The chain is built once per parameter vector rather than once per point: residuals for all
+  // points, and the central differences a parameter at a time over all points (the same steps
+  // and quotients as observationJacobian's, so the same numbers).
+  void residuals(const Eigen::VectorXd& p, Eigen::VectorXd& r) const override {
+    const model::DhChain chain(withDeviations(p.data()));
+    const int k = residualsPerObservation();
+    r.resize(rowCount());
+    for (int i = 0; i < observationCount(); ++i)
+      pointResiduals(chain, p.data(), i, r.data() + i * k);
+  }
+
+  void jacobian(const Eigen::VectorXd& p, Eigen::MatrixXd& jacobian) const override {
+    const int n = parameterCount();
+    jacobian.resize(rowCount(), n);
+    Eigen::VectorXd shifted = p, plus, minus;
+    for (int j = 0; j < n; ++j) {
+      const double h = parameterStep(j, p[j]);
+      shifted[j] = p[j] + h;
+      residuals(shifted, plus);
+      shifted[j] = p[j] - h;
+      residuals(shifted, minus);
+      shifted[j] = p[j];
+      jacobian.col(j) = (plus - minus) / (2.0 * h);
     }
   }
 
@@ -194,6 +208,22 @@ class DhIdentification final : public IdentificationProblem {
     double weight = 1.0;
     double sqrtWeight = 1.0;
   };
+
+  void pointResiduals(const model::DhChain& chain, const double* p, int i, double* r) const {
+    const Point& point = points_[static_cast<std::size_t>(i)];
+    const model::DhResult result = chain.evaluate(point.joints.data());
+    const Eigen::Vector3d nominal = result.tNominal.block<3, 1>(0, 3);
+    const double* frame = frameFirst_ >= 0 ? p + frameFirst_ : nullptr;
+    const Eigen::Vector3d position = predictedPositionError(frame, nominal, result.errorMm);
+    for (int t = 0; t < 3; ++t) r[t] = (position[t] - point.measuredMm[t]) * point.sqrtWeight;
+    if (hasAngles_) {
+      const Eigen::Vector3d angle = predictedAngularError(frame, result.angularErrorRad);
+      for (int t = 0; t < 3; ++t) {
+        r[3 + t] =
+            (angle[t] - point.measuredAngleRad[t]) * point.sqrtWeight * options_.angleScaleMm;
+      }
+    }
+  }
 
   model::DhChainSpec withDeviations(const double* p) const {
     model::DhChainSpec spec = template_;

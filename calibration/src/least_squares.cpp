@@ -11,6 +11,7 @@
 #include <Eigen/SVD>
 
 #include "scaled_svd.hpp"
+#include "trust_region.hpp"
 
 namespace volcomp::calibration {
 
@@ -123,13 +124,15 @@ void accumulateResiduals(const ResidualProblem& problem, const Eigen::VectorXd& 
                          ResidualAccumulator& accumulator, int first) {
   const int k = problem.residualsPerObservation();
   const int rows = std::min(k, problem.statisticsRows());
-  std::vector<double> block(static_cast<std::size_t>(k));
+  // All residuals at once: a problem may share work between its observations (residuals()).
+  Eigen::VectorXd all;
+  problem.residuals(p, all);
   for (int i = 0; i < problem.observationCount(); ++i) {
-    problem.observationResiduals(p.data(), i, block.data());
+    double* block = all.data() + static_cast<Eigen::Index>(i) * k;
     const double weight = problem.observationWeight(i);
     const double unweight = weight > 0.0 ? 1.0 / std::sqrt(weight) : 0.0;
-    for (int row = 0; row < rows; ++row) block[static_cast<std::size_t>(row)] *= unweight;
-    accumulator.add(block.data(), first + i);
+    for (int row = 0; row < rows; ++row) block[row] *= unweight;
+    accumulator.add(block, first + i);
   }
 }
 
@@ -142,7 +145,7 @@ ResidualStats residualStats(const ResidualProblem& problem, const Eigen::VectorX
 
 // ---- Scaled SVD ---------------------------------------------------------------------------------
 
-ScaledSvd::ScaledSvd(Eigen::MatrixXd jacobian, double rankTolerance) {
+ScaledSvd::ScaledSvd(Eigen::MatrixXd jacobian, double rankTolerance, bool withU) {
   const Eigen::Index m = jacobian.rows();
   const Eigen::Index n = jacobian.cols();
   columnScale = Eigen::VectorXd::Ones(n);
@@ -158,16 +161,18 @@ ScaledSvd::ScaledSvd(Eigen::MatrixXd jacobian, double rankTolerance) {
     Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(factors);
     householderCoefficients = qr.hCoeffs();
     const Eigen::MatrixXd r = factors.topRows(n).triangularView<Eigen::Upper>();
-    Eigen::BDCSVD<Eigen::MatrixXd> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(
+        r, withU ? Eigen::ComputeFullU | Eigen::ComputeFullV : Eigen::ComputeFullV);
     singularValues = svd.singularValues();
-    uSmall = svd.matrixU();
+    if (withU) uSmall = svd.matrixU();
     v = svd.matrixV();
     tall = true;
   } else {
-    Eigen::BDCSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(
+        jacobian, withU ? Eigen::ComputeFullU | Eigen::ComputeFullV : Eigen::ComputeFullV);
     singularValues = Eigen::VectorXd::Zero(n);
     singularValues.head(svd.singularValues().size()) = svd.singularValues();
-    uSmall = svd.matrixU();
+    if (withU) uSmall = svd.matrixU();
     v = svd.matrixV();
     tall = false;
   }
@@ -319,6 +324,14 @@ std::vector<Combination> namedCombinations(const ScaledSvd& svd,
     combination.description = describe(combination.terms, names);
     combinations.push_back(std::move(combination));
   }
+  // In the order of their first parameter: which parameter becomes a pivot, and so the order of
+  // the echelon rows, depends on the basis the SVD returns for the null space, which any change
+  // of the point or of the derivatives' rounding rotates.
+  const auto first = [](const Combination& c) {
+    return c.terms.empty() ? c.pivot : c.terms.front().first;
+  };
+  std::stable_sort(combinations.begin(), combinations.end(),
+                   [&](const Combination& a, const Combination& b) { return first(a) < first(b); });
   return combinations;
 }
 
@@ -476,12 +489,15 @@ FitResult solve(const ResidualProblem& problem, const Eigen::VectorXd& start,
       options.method == Method::LevenbergMarquardt || options.loss != RobustLoss::None;
   FitResult result;
   if (nonlinear) {
-    result = solveLevenbergMarquardt(problem, start, options);
+    // Without a robust loss the dense trust region (MINPACK's step control) is the faster;
+    // Ceres keeps the robust losses, which act per observation block.
+    result = options.loss == RobustLoss::None ? solveTrustRegion(problem, start, options)
+                                              : solveLevenbergMarquardt(problem, start, options);
     Eigen::VectorXd r;
     problem.residuals(result.parameters, r);
     Eigen::MatrixXd jacobian;
     problem.jacobian(result.parameters, jacobian);
-    ScaledSvd svd(std::move(jacobian), options.rankTolerance);
+    ScaledSvd svd(std::move(jacobian), options.rankTolerance, false);
     // The same policy as the linear method: whatever Levenberg-Marquardt's path left along the
     // directions the data cannot see is taken back to the start values (scaled units), which
     // changes the residuals only to second order.

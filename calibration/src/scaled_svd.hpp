@@ -14,7 +14,9 @@ namespace volcomp::calibration {
 /// Js = J D = U S V^T (D = diag(1 / column norms)); for m >= n through Js = Q R, R = U_R S V^T.
 struct ScaledSvd {
   /// Takes the Jacobian by value: it is scaled and factorised in place (no copy when moved in).
-  ScaledSvd(Eigen::MatrixXd jacobian, double rankTolerance);
+  /// Without `withU` uSmall stays empty (projectResiduals and step are then not available): the
+  /// analysis needs S and V only.
+  ScaledSvd(Eigen::MatrixXd jacobian, double rankTolerance, bool withU = true);
   /// U_k^T r.
   Eigen::VectorXd projectResiduals(const Eigen::VectorXd& residuals) const;
   /// Minimum-norm (scaled) Gauss-Newton step dp = -D V_k S_k^-1 U_k^T r from U_k^T r.

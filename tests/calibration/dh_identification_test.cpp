@@ -7,7 +7,7 @@
 #include <random>
 #include <set>
 
-#include "random_draws.hpp"
+#include "dh_synthetic.hpp"
 #include "volcomp/calibration/identification.hpp"
 #include "volcomp/config/model_file.hpp"
 #include "volcomp/model/dh_chain.hpp"
@@ -18,43 +18,8 @@ namespace {
 using nlohmann::json;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Bulla Ramos et al.'s chain (config/examples/cartesian-table-dh.json) with its perpendicularity
-// deviations plus offsets on the a of the first two links.
-json seedChain() {
-  return json::parse(R"({
-    "format": "volcomp-model/1",
-    "chain": {"convention": "dh", "links": [
-      {"joint": "prismatic", "theta": 0, "d": 0, "a": 120, "alpha": 90, "da": 0.012},
-      {"joint": "prismatic", "theta": 90, "d": 0, "a": 85, "alpha": -90, "dalpha": -0.0013544,
-       "da": -0.008},
-      {"joint": "prismatic", "theta": 0, "d": 50, "a": 40, "alpha": 0, "dalpha": 0.0010835},
-      {"joint": "fixed", "rotation_deg": [0, 0, 0], "translation": [0, 0, 0],
-       "drotation_deg": [0, 0.0010835, 0]},
-      {"joint": "fixed", "theta": 0, "d": 150, "a": 30, "alpha": 0}
-    ]}})");
-}
-
-MeasurementSet simulateChain(const json& truth, double noiseMm, unsigned seed) {
-  const model::DhChain chain(std::get<model::DhChainSpec>(config::parseModel(truth, "t").spec));
-  std::mt19937 generator(seed);
-  std::normal_distribution<double> noise(0.0, noiseMm);
-  MeasurementSet set;
-  set.file = "chain.csv";
-  int line = 2;
-  for (double x : {0.0, 75.0, 150.0, 225.0, 300.0}) {
-    for (double y : {0.0, 50.0, 100.0, 150.0, 200.0}) {
-      for (double z : {0.0, 33.0, 66.0, 100.0}) {
-        Measurement m;
-        m.qMm = {x, y, z};
-        m.errorMm = chain.evaluate(m.qMm.data()).errorMm;
-        if (noiseMm > 0) m.errorMm += testutil::draw3(noise, generator);
-        m.line = line++;
-        set.points.push_back(m);
-      }
-    }
-  }
-  return set;
-}
+using testing::seedChain;
+using testing::simulateChain;
 
 config::ModelDocument chainTemplate(const json& t) {
   config::ParseOptions options;

@@ -35,6 +35,40 @@ TEST(Planar2Dof, NominalForwardMatchesSeedEquationOne) {
   EXPECT_NEAR(tcp.y(), std::sqrt(38475.0), 1e-12);
 }
 
+TEST(Planar2Dof, AnalyticJacobianMatchesCentralDifferences) {
+  // All nine free, away from the reference point and at a non-trivial phi: every column of the
+  // analytic Jacobian (full and per observation) against central differences of the residuals.
+  std::array<bool, kPlanar2DofParameterCount> allFree{};
+  allFree.fill(true);
+  const Planar2DofParameters u = paperOptimised();
+  Planar2DofProblem problem({}, simulatePlanar(u, 1e-3, 3), 4, allFree, u);
+  Eigen::VectorXd p = problem.freeVector(u);
+  p(phi) = 0.2;
+  Eigen::MatrixXd analytic;
+  problem.jacobian(p, analytic);
+  ASSERT_EQ(analytic.rows(), problem.rowCount());
+  ASSERT_EQ(analytic.cols(), 9);
+  double block[2 * 9];
+  for (int i = 0; i < problem.observationCount(); ++i) {
+    problem.observationJacobian(p.data(), i, block);
+    for (int j = 0; j < 9; ++j) {
+      const double h = j == phi ? 1e-6 : 1e-4;
+      Eigen::VectorXd plus = p, minus = p;
+      plus(j) += h;
+      minus(j) -= h;
+      double rPlus[2], rMinus[2];
+      problem.observationResiduals(plus.data(), i, rPlus);
+      problem.observationResiduals(minus.data(), i, rMinus);
+      for (int t = 0; t < 2; ++t) {
+        const double numeric = (rPlus[t] - rMinus[t]) / (2.0 * h);
+        EXPECT_NEAR(analytic(2 * i + t, j), numeric, 1e-7)
+            << "point " << i << " " << planar2DofName(j);
+        EXPECT_EQ(block[t * 9 + j], analytic(2 * i + t, j));
+      }
+    }
+  }
+}
+
 TEST(Planar2Dof, NoiseFreeDataRecoversTableTwoExactly) {
   Planar2DofParameters truth = paperOptimised();
   truth[exK] = truth[eyK] = 0.0;
@@ -51,8 +85,8 @@ TEST(Planar2Dof, NoiseFreeDataRecoversTableTwoExactly) {
 }
 
 TEST(Planar2Dof, SevenParametersRecoveredWithinTwoSigmaFromPaperStart) {
-  // Hanak, Zirn and Ruoff report a mean deviation of 2.3 um after the fit; for 2-D Gaussian noise the mean
-  // distance is sigma sqrt(pi / 2), so sigma = 2.3 / 1.25 = 1.8 um per coordinate.
+  // Hanak, Zirn and Ruoff report a mean deviation of 2.3 um after the fit; for 2-D Gaussian noise
+  // the mean distance is sigma sqrt(pi / 2), so sigma = 2.3 / 1.25 = 1.8 um per coordinate.
   const double noiseMm = 1.8e-3;
   const Planar2DofParameters truth = paperOptimised();
   // One data set puts all 7 estimates within 2 sigma only with probability ~0.95^7 = 0.7, so the

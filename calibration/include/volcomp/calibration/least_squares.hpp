@@ -61,7 +61,9 @@ class ResidualProblem {
 
   /// All rows stacked: observations in order, then prior rows.
   int rowCount() const { return observationCount() * residualsPerObservation() + priorRowCount(); }
-  void residuals(const Eigen::VectorXd& p, Eigen::VectorXd& r) const;
+  /// All residuals, stacked like that. Override when a faster form exists (work shared by the
+  /// observations, such as a reference point).
+  virtual void residuals(const Eigen::VectorXd& p, Eigen::VectorXd& r) const;
   /// Full Jacobian, stacked like residuals(). Override when a faster form exists.
   virtual void jacobian(const Eigen::VectorXd& p, Eigen::MatrixXd& jacobian) const;
 };
@@ -144,6 +146,7 @@ struct FitStatistics {
   double identifiabilityThreshold = 0.0;
   /// Per parameter: pi_j < identifiabilityThreshold.
   std::vector<bool> identifiable;
+  /// In the order of their first parameter.
   std::vector<Combination> unidentifiable;
   /// D (the column scale), V_N (scaled null-space basis, n x (n - k)) and W = D V_k S_k^-1
   /// (n x k): a prediction with sensitivity row g (dprediction/dp) has the standard deviation
@@ -187,7 +190,8 @@ enum class Method {
   /// and the correction iterated with the same factorisation (for models linear in their
   /// parameters up to second-order terms, e.g. the 21-component model).
   Linear,
-  /// Levenberg-Marquardt on the exact model (Ceres), with optional robust loss.
+  /// Levenberg-Marquardt on the exact model: without a robust loss MINPACK's dense trust region
+  /// (Moré's scaling and radius control), with one Ceres (a loss per observation block).
   LevenbergMarquardt,
 };
 
@@ -235,7 +239,7 @@ FitStatistics analyse(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& re
 FitResult solve(const ResidualProblem& problem, const Eigen::VectorXd& start,
                 const SolveOptions& options = {});
 
-/// Levenberg-Marquardt with Ceres (used by solve() for Method::LevenbergMarquardt). Returns the
+/// Levenberg-Marquardt with Ceres (used by solve() when a robust loss is chosen). Returns the
 /// parameters, iterations, convergence and termination text; statistics are filled by solve().
 FitResult solveLevenbergMarquardt(const ResidualProblem& problem, const Eigen::VectorXd& start,
                                   const SolveOptions& options);

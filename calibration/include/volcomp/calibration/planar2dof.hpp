@@ -64,6 +64,14 @@ class Planar2DofProblem final : public ResidualProblem {
   int observationCount() const override { return static_cast<int>(samples_.size()); }
   int residualsPerObservation() const override { return 2; }
   void observationResiduals(const double* p, int i, double* r) const override;
+  /// Analytic: the TCP T meets |T - A| = La and |T - B| = Lb, so that
+  /// [(T - A)^T; (T - B)^T] dT = [La dLa + (T - A).dA; Lb dLb + (T - B).dB], and
+  /// dr/du = R(phi) (dT_i/du - dT_ref/du), dr/dphi = R'(phi) (T_i - T_ref), dr/de_K = I.
+  void observationJacobian(const double* p, int i, double* jacobianRowMajor) const override;
+  /// All rows at once (the reference point's derivatives taken once).
+  void jacobian(const Eigen::VectorXd& p, Eigen::MatrixXd& jacobian) const override;
+  /// All residuals at once (the reference point and the rotation taken once).
+  void residuals(const Eigen::VectorXd& p, Eigen::VectorXd& r) const override;
   std::string parameterName(int j) const override;
   double parameterStep(int j, double pj) const override;
 
@@ -74,7 +82,21 @@ class Planar2DofProblem final : public ResidualProblem {
   /// Index (Planar2DofParameter) of free parameter j.
   int fullIndex(int j) const { return freeIndex_[static_cast<std::size_t>(j)]; }
 
+  /// dT/du (2 x 9, all parameters): the TCP's derivatives in the device frame.
+  using TcpDerivative = Eigen::Matrix<double, 2, kPlanar2DofParameterCount>;
+
  private:
+  /// Observation i's two Jacobian rows (free columns) written at out[j * columnStride +
+  /// t * rowStride], given the reference point's TCP and derivatives.
+  void observationJacobianRows(const Planar2DofParameters& u, int i,
+                               const Eigen::Vector2d& tcpReference, const TcpDerivative& dReference,
+                               const Eigen::Matrix2d& rotation, double* out, int columnStride,
+                               int rowStride) const;
+  /// Observation i's two residuals given the reference point's TCP and R(phi).
+  Eigen::Vector2d residualsAt(const Planar2DofParameters& u, int i,
+                              const Eigen::Vector2d& tcpReference,
+                              const Eigen::Matrix2d& rotation) const;
+
   Planar2DofGeometry geometry_;
   std::vector<Planar2DofSample> samples_;
   int reference_;
